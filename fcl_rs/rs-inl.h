@@ -1,0 +1,378 @@
+// Definitions of RS<S>: growth, merge, Tribox corners, support, volume, overlap and distance bounds.
+#ifndef FCL_RS_RS_INL_H
+#define FCL_RS_RS_INL_H
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "fcl_rs/pca.h"
+#include "fcl_rs/rs.h"
+
+namespace fcl_rs {
+
+namespace detail {
+
+template <typename S>
+constexpr S eps() { return std::numeric_limits<S>::epsilon(); }
+
+/// Unit direction of slab k in frame coordinates.
+template <typename S>
+fcl::Vector3<S> slabDirection(int k)
+{
+  const SlabDirection& d = kSlabDirections[k];
+  fcl::Vector3<S> v = fcl::Vector3<S>::Zero();
+  if (d.sign == 0) { v[d.i] = 1; return v; }
+  v[d.i] = S(M_SQRT1_2);
+  v[d.j] = S(d.sign) * S(M_SQRT1_2);
+  return v;
+}
+
+/// Rows of M combined as slab k's direction: M^T d_k for a unit slab direction d_k.
+template <typename S>
+fcl::Vector3<S> slabOfRows(const fcl::Matrix3<S>& M, int k)
+{
+  const SlabDirection& d = kSlabDirections[k];
+  if (d.sign == 0) return M.row(d.i).transpose();
+  return (M.row(d.i) + S(d.sign) * M.row(d.j)).transpose() * S(M_SQRT1_2);
+}
+
+/// Columns of M combined as slab k's direction: M d_k.
+template <typename S>
+fcl::Vector3<S> slabOfColumns(const fcl::Matrix3<S>& M, int k)
+{
+  const SlabDirection& d = kSlabDirections[k];
+  if (d.sign == 0) return M.col(d.i);
+  return (M.col(d.i) + S(d.sign) * M.col(d.j)) * S(M_SQRT1_2);
+}
+
+template <typename S>
+int octantOf(const fcl::Vector3<S>& dir)
+{
+  return (dir[0] < 0 ? 1 : 0) | (dir[1] < 0 ? 2 : 0) | (dir[2] < 0 ? 4 : 0);
+}
+
+}  // namespace detail
+
+template <typename S>
+RS<S>::RS() : RS(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero())
+{
+}
+
+template <typename S>
+RS<S>::RS(const fcl::Matrix3<S>& axis_, const fcl::Vector3<S>& origin_) : axis(axis_), origin(origin_)
+{
+  lo.setConstant(std::numeric_limits<S>::max());
+  hi.setConstant(-std::numeric_limits<S>::max());
+}
+
+template <typename S>
+bool RS<S>::empty() const
+{
+  return !(lo[0] <= hi[0]);
+}
+
+template <typename S>
+void RS<S>::expandFrame(const fcl::Vector3<S>& y, S abs_err)
+{
+  // Projection rounding is a few ulps of |y|; the caller adds what it knows of y's own error.
+  const S err = abs_err + 4 * detail::eps<S>() * y.template lpNorm<1>();
+  for (int k = 0; k < kNumSlabs; ++k)
+  {
+    const S v = projectOnSlab(y, k);
+    lo[k] = std::min(lo[k], v - err);
+    hi[k] = std::max(hi[k], v + err);
+  }
+}
+
+template <typename S>
+RS<S>& RS<S>::operator+=(const fcl::Vector3<S>& p)
+{
+  if (empty()) origin = p;
+  expandFrame(toFrame(p), 0);
+  return *this;
+}
+
+template <typename S>
+RS<S>& RS<S>::operator+=(const RS<S>& other)
+{
+  if (other.empty()) return *this;
+  const auto pts = other.corners();
+  if (empty()) origin = other.origin;
+  // Corners carry the rounding of other's slab arithmetic and of the change of frame.
+  const S abs_err = 8 * detail::eps<S>() * (other.magnitude() + (other.origin - origin).template lpNorm<1>());
+  for (const auto& c : pts) expandFrame(toFrame(other.toModel(c)), abs_err);
+  return *this;
+}
+
+template <typename S>
+RS<S> RS<S>::operator+(const RS<S>& other) const
+{
+  if (other.empty()) return *this;
+  if (empty()) return other;
+  const auto a = corners();
+  const auto b = other.corners();
+  const auto frame = principalFrame<S>(64, [&](int i) -> fcl::Vector3<S> {
+    return i < 32 ? toModel(a[i]) : other.toModel(b[i - 32]);
+  });
+  RS<S> merged(frame.axis, frame.mean);
+  merged += *this;
+  merged += other;
+  return merged;
+}
+
+template <typename S>
+S RS<S>::magnitude() const
+{
+  return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+}
+
+template <typename S>
+std::array<fcl::Vector3<S>, 4> RS<S>::cornerVertices(int octant) const
+{
+  // Tribox: work in the frame reflected so that this corner is (+,+,+); X, Y, Z are the principal
+  // planes and Cxy, Cxz, Cyz the unnormalised chamfer planes (x+y <= Cxy, ...).
+  const S s[3] = {(octant & 1) ? S(-1) : S(1), (octant & 2) ? S(-1) : S(1), (octant & 4) ? S(-1) : S(1)};
+  auto principal = [&](int i) { return s[i] > 0 ? hi[i] : -lo[i]; };
+  auto chamfer = [&](int i, int j) {
+    const int k = diagonalIndex(i, j, s[i] == s[j] ? +1 : -1);
+    return S(M_SQRT2) * (s[i] > 0 ? hi[k] : -lo[k]);
+  };
+  const S X = principal(0), Y = principal(1), Z = principal(2);
+  const S Cxy = chamfer(0, 1), Cxz = chamfer(0, 2), Cyz = chamfer(1, 2);
+
+  // The chamfer triple point can pass at most one principal plane (the slab values are a support
+  // function), which leaves four configurations of four vertices each.
+  const S ex = (Cxy + Cxz - Cyz) / 2 - X;
+  const S ey = (Cxy + Cyz - Cxz) / 2 - Y;
+  const S ez = (Cxz + Cyz - Cxy) / 2 - Z;
+  using V = fcl::Vector3<S>;
+  const V onA(X, Cxy - X, Cxz - X), onB(Cxy - Y, Y, Cyz - Y), onC(Cxz - Z, Cyz - Z, Z);
+  std::array<V, 4> v;
+  if (ex <= 0 && ey <= 0 && ez <= 0)
+    v = {V(ex + X, ey + Y, ez + Z), onA, onB, onC};
+  else if (ex >= ey && ex >= ez)
+    v = {V(X, Cxy - X, Cyz - Cxy + X), V(X, Cyz - Cxz + X, Cxz - X), onB, onC};
+  else if (ey >= ez)
+    v = {V(Cxy - Y, Y, Cxz - Cxy + Y), V(Cxz - Cyz + Y, Y, Cyz - Y), onA, onC};
+  else
+    v = {V(Cxz - Z, Cxy - Cxz + Z, Z), V(Cxy - Cyz + Z, Cyz - Z, Z), onA, onB};
+  for (auto& p : v) p = p.cwiseProduct(V(s[0], s[1], s[2]));
+  return v;
+}
+
+template <typename S>
+std::array<fcl::Vector3<S>, 32> RS<S>::corners() const
+{
+  std::array<fcl::Vector3<S>, 32> all;
+  for (int o = 0; o < 8; ++o)
+  {
+    const auto c = cornerVertices(o);
+    std::copy(c.begin(), c.end(), all.begin() + 4 * o);
+  }
+  return all;
+}
+
+template <typename S>
+S RS<S>::support(const fcl::Vector3<S>& dir) const
+{
+  const auto v = cornerVertices(detail::octantOf(dir));
+  return std::max(std::max(dir.dot(v[0]), dir.dot(v[1])), std::max(dir.dot(v[2]), dir.dot(v[3])));
+}
+
+template <typename S>
+bool RS<S>::overlap(const RS<S>& other) const
+{
+  return fcl_rs::overlap<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), *this, other);
+}
+
+template <typename S>
+bool RS<S>::contain(const fcl::Vector3<S>& p) const
+{
+  if (empty()) return false;
+  const fcl::Vector3<S> y = toFrame(p);
+  const S tol = 8 * detail::eps<S>() * (y.template lpNorm<1>() + magnitude() + (p - origin).template lpNorm<1>());
+  for (int k = 0; k < kNumSlabs; ++k)
+  {
+    const S v = projectOnSlab(y, k);
+    if (v < lo[k] - tol || v > hi[k] + tol) return false;
+  }
+  return true;
+}
+
+template <typename S>
+S RS<S>::distance(const RS<S>& other, fcl::Vector3<S>* P, fcl::Vector3<S>* Q) const
+{
+  return fcl_rs::distance<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), *this, other, P, Q);
+}
+
+template <typename S>
+fcl::Vector3<S> RS<S>::center() const
+{
+  if (empty()) return origin;
+  return toModel(fcl::Vector3<S>((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2));
+}
+
+template <typename S>
+S RS<S>::width() const { return empty() ? S(0) : hi[0] - lo[0]; }
+
+template <typename S>
+S RS<S>::height() const { return empty() ? S(0) : hi[1] - lo[1]; }
+
+template <typename S>
+S RS<S>::depth() const { return empty() ? S(0) : hi[2] - lo[2]; }
+
+template <typename S>
+S RS<S>::size() const
+{
+  return width() * width() + height() * height() + depth() * depth();
+}
+
+template <typename S>
+S RS<S>::volume() const
+{
+  if (empty()) return 0;
+  // Divergence theorem over the 18 faces: V = sum(area_f * (h_f - n_f . c)) / 3 for an interior c.
+  // Face polygons are the corner points lying on each plane, ordered by angle.
+  using V3 = Eigen::Vector3d;
+  std::vector<V3> pts;
+  for (const auto& c : corners()) pts.push_back(c.template cast<double>());
+  V3 interior = V3::Zero();
+  for (const auto& p : pts) interior += p;
+  interior /= double(pts.size());
+  const double tol = 256 * double(detail::eps<S>()) * double(magnitude());
+
+  double total = 0;
+  for (int k = 0; k < kNumSlabs; ++k)
+  {
+    for (int side : {+1, -1})
+    {
+      const V3 n = double(side) * detail::slabDirection<double>(k);
+      const double h = side > 0 ? double(hi[k]) : -double(lo[k]);
+      std::vector<V3> face;
+      for (const auto& p : pts)
+      {
+        if (std::abs(n.dot(p) - h) > tol) continue;
+        bool seen = false;
+        for (const auto& q : face) seen = seen || (q - p).squaredNorm() <= tol * tol;
+        if (!seen) face.push_back(p);
+      }
+      if (face.size() < 3) continue;
+      V3 f = V3::Zero();
+      for (const auto& p : face) f += p;
+      f /= double(face.size());
+      const V3 a = n.unitOrthogonal(), b = n.cross(a);
+      std::sort(face.begin(), face.end(), [&](const V3& p, const V3& q) {
+        return std::atan2((p - f).dot(b), (p - f).dot(a)) < std::atan2((q - f).dot(b), (q - f).dot(a));
+      });
+      double area = 0;
+      for (std::size_t i = 0; i < face.size(); ++i)
+        area += (face[i] - f).cross(face[(i + 1) % face.size()] - f).dot(n);
+      total += 0.5 * std::abs(area) * (h - n.dot(interior)) / 3;
+    }
+  }
+  return S(total);
+}
+
+namespace detail {
+
+/// b2 expressed in b1's frame: y1 = M y2 + t, with the rounding tolerance of tests made there.
+template <typename S>
+struct RelativeFrame
+{
+  fcl::Matrix3<S> M;
+  fcl::Vector3<S> t;
+  S tol;
+
+  RelativeFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
+  {
+    const fcl::Vector3<S> o2 = R * b2.origin;
+    M.noalias() = b1.axis.transpose() * (R * b2.axis);
+    t.noalias() = b1.axis.transpose() * (o2 + T - b1.origin);
+    // t loses a few ulps of the magnitudes it is computed from; the corners of a few ulps of the
+    // slab values; M y of a few ulps of |y|.
+    tol = 32 * eps<S>() *
+          (o2.template lpNorm<1>() + T.template lpNorm<1>() + b1.origin.template lpNorm<1>() +
+           2 * (b1.magnitude() + b2.magnitude()));
+  }
+};
+
+/// Gap between b1 and b2 along slab k of b1 (k < 9) or of b2 (k >= 9); positive means separated.
+template <typename S>
+S slabGap(const RelativeFrame<S>& f, const RS<S>& b1, const RS<S>& b2, int k)
+{
+  if (k < kNumSlabs)
+  {
+    const fcl::Vector3<S> e = slabOfRows(f.M, k);  // b1's direction in b2's frame
+    const S shift = slabDirection<S>(k).dot(f.t);
+    const S max2 = b2.support(e) + shift, min2 = -b2.support(-e) + shift;
+    return std::max(min2 - b1.hi[k], b1.lo[k] - max2);
+  }
+  k -= kNumSlabs;
+  const fcl::Vector3<S> e = slabOfColumns(f.M, k);  // b2's direction in b1's frame
+  const S shift = e.dot(f.t);
+  const S max1 = b1.support(e) - shift, min1 = -b1.support(-e) - shift;
+  return std::max(min1 - b2.hi[k], b2.lo[k] - max1);
+}
+
+/// Slab order for early exit: the three principal axes of each volume first, then the diagonals.
+inline constexpr std::array<int, 18> kSlabTestOrder = {0, 9, 1, 10, 2, 11, 3, 12, 4, 13, 5, 14, 6, 15, 7, 16, 8, 17};
+
+}  // namespace detail
+
+template <typename S>
+bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
+{
+  if (b1.empty() || b2.empty()) return false;
+  const detail::RelativeFrame<S> f(R, T, b1, b2);
+  for (int k : detail::kSlabTestOrder)
+    if (detail::slabGap(f, b1, b2, k) > f.tol) return false;
+  return true;
+}
+
+template <typename S>
+S distance(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2,
+           fcl::Vector3<S>* P, fcl::Vector3<S>* Q)
+{
+  if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
+  const detail::RelativeFrame<S> f(R, T, b1, b2);
+  S best = -std::numeric_limits<S>::max();
+  int best_k = 0;
+  for (int k = 0; k < 2 * kNumSlabs; ++k)
+  {
+    const S gap = detail::slabGap(f, b1, b2, k);
+    if (gap > best) { best = gap; best_k = k; }
+  }
+  if (P || Q)
+  {
+    // Extreme points of each volume along the best direction n (b1's frame), facing each other.
+    fcl::Vector3<S> n = best_k < kNumSlabs ? detail::slabDirection<S>(best_k)
+                                           : detail::slabOfColumns(f.M, best_k - kNumSlabs);
+    const fcl::Vector3<S> c1 = b1.toFrame(b1.center()), c2 = f.M * b2.toFrame(b2.center()) + f.t;
+    if (n.dot(c2 - c1) < 0) n = -n;
+    auto extreme = [](const RS<S>& b, const fcl::Vector3<S>& dir) {
+      const auto v = b.cornerVertices(detail::octantOf(dir));
+      int arg = 0;
+      for (int i = 1; i < 4; ++i)
+        if (dir.dot(v[i]) > dir.dot(v[arg])) arg = i;
+      return v[arg];
+    };
+    if (P) *P = b1.toModel(extreme(b1, n));
+    if (Q) *Q = b2.toModel(extreme(b2, -(f.M.transpose() * n)));
+  }
+  return std::max(S(0), best - f.tol);
+}
+
+template <typename S>
+RS<S> transform(const RS<S>& bv, const fcl::Transform3<S>& tf)
+{
+  RS<S> moved = bv;
+  moved.axis = tf.linear() * bv.axis;
+  moved.origin = tf * bv.origin;
+  return moved;
+}
+
+}  // namespace fcl_rs
+
+#endif

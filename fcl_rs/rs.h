@@ -1,0 +1,110 @@
+// RS<S>: the oriented 18-DOP bounding volume R(S) (PCA frame, nine slabs, Tribox corners).
+#ifndef FCL_RS_RS_H
+#define FCL_RS_RS_H
+
+#include <array>
+
+#include <fcl/common/types.h>
+
+#include "fcl_rs/directions.h"
+
+namespace fcl_rs {
+
+/// Oriented convex polyhedron R(S): the intersection of nine slabs whose directions are the
+/// principal axes u0, u1, u2 of a frame and the six diagonals (u_i +- u_j)/sqrt(2).
+///
+/// A point x (in the model's coordinates) has frame coordinates y = axis^T (x - origin); it lies in
+/// the volume when lo[k] <= d_k . y <= hi[k] for the nine unit directions d_k of kSlabDirections.
+/// Intervals are along unit directions, so an interval gap is a true distance. The default
+/// volume is empty (lo > hi); adding points grows the intervals in the volume's current frame.
+template <typename S_>
+class RS
+{
+public:
+  using S = S_;
+  using Slabs = Eigen::Matrix<S, kNumSlabs, 1>;
+
+  /// Orthonormal right-handed frame; columns are u0, u1, u2 (u0 = largest principal variance).
+  fcl::Matrix3<S> axis;
+  /// Frame origin in model coordinates (the mean of the fitted points).
+  fcl::Vector3<S> origin;
+  /// Slab intervals along the nine unit directions, in frame coordinates.
+  Slabs lo;
+  Slabs hi;
+
+  /// Empty volume in the identity frame at the model origin.
+  RS();
+  /// Empty volume in the given frame.
+  RS(const fcl::Matrix3<S>& axis, const fcl::Vector3<S>& origin);
+
+  bool empty() const;
+
+  /// Grows the intervals (in the current frame) to contain p. On an empty volume the origin moves to p.
+  RS& operator+=(const fcl::Vector3<S>& p);
+  /// Grows this volume (in its current frame) to contain every corner of other.
+  RS& operator+=(const RS& other);
+  /// A volume containing both operands, in the principal frame of their corners.
+  RS operator+(const RS& other) const;
+
+  /// Overlap with a volume in the same (model) coordinates; symmetric and conservative.
+  bool overlap(const RS& other) const;
+  /// Whether p (model coordinates) is inside, up to rounding.
+  bool contain(const fcl::Vector3<S>& p) const;
+  /// A lower bound on the distance to other (same coordinates); 0 when they may overlap.
+  /// P and Q, if given, receive a point of each volume on the separating direction.
+  S distance(const RS& other, fcl::Vector3<S>* P = nullptr, fcl::Vector3<S>* Q = nullptr) const;
+
+  /// Centre of the principal box, in model coordinates.
+  fcl::Vector3<S> center() const;
+  /// Extents of the principal box along u0, u1, u2: the ball at center() of radius
+  /// ||(width, height, depth)|| / 2 contains the volume.
+  S width() const;
+  S height() const;
+  S depth() const;
+  /// Traversal-order size: squared diagonal of the principal box.
+  S size() const;
+  /// Exact volume of the polytope.
+  S volume() const;
+
+  /// The 4 vertices of the polytope's corner in octant `octant` (bit i set = negative along u_i),
+  /// in frame coordinates (Tribox construction). All 8 corners give the <= 32 polytope vertices.
+  std::array<fcl::Vector3<S>, 4> cornerVertices(int octant) const;
+  /// All 32 corner points (with repeats where the polytope has fewer vertices), frame coordinates.
+  std::array<fcl::Vector3<S>, 32> corners() const;
+  /// max over the polytope of dir . y, for dir in frame coordinates (octant trick: 4 dot products).
+  S support(const fcl::Vector3<S>& dir) const;
+  /// Largest absolute slab value; the scale of the rounding error of anything derived from the volume.
+  S magnitude() const;
+
+  fcl::Vector3<S> toFrame(const fcl::Vector3<S>& p) const { return axis.transpose() * (p - origin); }
+  fcl::Vector3<S> toModel(const fcl::Vector3<S>& y) const { return axis * y + origin; }
+
+  /// Grows the intervals to contain the frame point y, widened by abs_err (its known rounding error).
+  void expandFrame(const fcl::Vector3<S>& y, S abs_err);
+};
+
+using RSf = RS<float>;
+using RSd = RS<double>;
+
+/// Overlap test in FCL's convention: b2 is mapped into b1's coordinates by x1 = R x2 + T.
+/// Two-sided slab test (b2's corners on b1's nine directions and b1's on b2's): symmetric and
+/// conservative, padded by the rounding error of the transform.
+template <typename S>
+bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2);
+
+/// Lower bound on the distance between b1 and b2 (b2 mapped by x1 = R x2 + T): the largest gap
+/// over the 18 slab directions, minus rounding. P (in b1's coordinates) and Q (in b2's) receive
+/// the two volumes' extreme points along that direction.
+template <typename S>
+S distance(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2,
+           fcl::Vector3<S>* P = nullptr, fcl::Vector3<S>* Q = nullptr);
+
+/// A copy of bv moved by the rigid transform tf (its frame and origin are transformed).
+template <typename S>
+RS<S> transform(const RS<S>& bv, const fcl::Transform3<S>& tf);
+
+}  // namespace fcl_rs
+
+#include "fcl_rs/rs-inl.h"
+
+#endif

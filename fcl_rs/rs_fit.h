@@ -1,0 +1,186 @@
+// Fitting RS volumes to points and shapes, and the FCL specialisations that build and refit BVHModel<RS>.
+#ifndef FCL_RS_RS_FIT_H
+#define FCL_RS_RS_FIT_H
+
+#include <limits>
+#include <vector>
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/shape/halfspace.h>
+#include <fcl/geometry/shape/plane.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/utility.h>
+#include <fcl/math/bv/utility.h>
+
+#include "fcl_rs/pca.h"
+#include "fcl_rs/rs.h"
+
+namespace fcl_rs {
+
+/// RS of n points given by point_at(i): principal frame of the points, then the nine intervals.
+template <typename S, typename PointAt>
+RS<S> fitPoints(int n, PointAt point_at)
+{
+  const PrincipalFrame<S> frame = principalFrame<S>(n, point_at);
+  RS<S> bv(frame.axis, frame.mean);
+  for (int i = 0; i < n; ++i) bv += point_at(i);
+  return bv;
+}
+
+template <typename S>
+RS<S> fitPoints(const fcl::Vector3<S>* points, int n)
+{
+  return fitPoints<S>(n, [points](int i) -> const fcl::Vector3<S>& { return points[i]; });
+}
+
+/// A value standing for "unbounded" in slabs of planes and halfspaces: finite, so that corner
+/// arithmetic stays finite, and small enough that sums of a few of them cannot overflow.
+template <typename S>
+constexpr S unboundedSlab() { return std::numeric_limits<S>::max() / S(1024); }
+
+/// RS of the set {x : lower <= n.x <= upper} (unit n; a plane when lower == upper).
+template <typename S>
+RS<S> slabRS(const fcl::Vector3<S>& n, S lower, S upper)
+{
+  fcl::Matrix3<S> axis;
+  axis.col(0) = n.normalized();
+  axis.col(1) = axis.col(0).unitOrthogonal();
+  axis.col(2) = axis.col(0).cross(axis.col(1));
+  RS<S> bv(axis, fcl::Vector3<S>::Zero());
+  bv.lo.setConstant(-unboundedSlab<S>());
+  bv.hi.setConstant(unboundedSlab<S>());
+  bv.lo[0] = lower;
+  bv.hi[0] = upper;
+  return bv;
+}
+
+/// The principal box of bv as an FCL Box and its pose (FCL's approximate-cost path needs it).
+template <typename S>
+void constructBox(const RS<S>& bv, const fcl::Transform3<S>& tf_bv, fcl::Box<S>& box, fcl::Transform3<S>& tf)
+{
+  box = fcl::Box<S>(bv.width(), bv.height(), bv.depth());
+  fcl::Transform3<S> local = fcl::Transform3<S>::Identity();
+  local.linear() = bv.axis;
+  local.translation() = bv.center();
+  tf = tf_bv * local;
+}
+
+}  // namespace fcl_rs
+
+namespace fcl {
+namespace detail {
+
+/// Top-down fit used by BVHModel::endModel and top-down refit: PCA of the node's triangle vertices
+/// (each triangle contributes its three vertices, as in the paper), or of its points.
+template <typename S>
+struct FitImpl<S, fcl_rs::RS<S>>
+{
+  static fcl_rs::RS<S> run(const BVFitter<fcl_rs::RS<S>>& fitter, unsigned int* primitive_indices, int num_primitives)
+  {
+    std::vector<const Vector3<S>*> points;
+    const int copies = fitter.prev_vertices ? 2 : 1;
+    auto add = [&](int v) {
+      points.push_back(&fitter.vertices[v]);
+      if (fitter.prev_vertices) points.push_back(&fitter.prev_vertices[v]);
+    };
+    if (fitter.type == BVH_MODEL_TRIANGLES)
+    {
+      points.reserve(std::size_t(3 * copies * num_primitives));
+      for (int i = 0; i < num_primitives; ++i)
+      {
+        const Triangle& t = fitter.tri_indices[primitive_indices[i]];
+        add(int(t[0])); add(int(t[1])); add(int(t[2]));
+      }
+    }
+    else if (fitter.type == BVH_MODEL_POINTCLOUD)
+    {
+      points.reserve(std::size_t(copies * num_primitives));
+      for (int i = 0; i < num_primitives; ++i) add(int(primitive_indices[i]));
+    }
+    if (points.empty()) return fcl_rs::RS<S>();
+    return fcl_rs::fitPoints<S>(int(points.size()), [&](int i) -> const Vector3<S>& { return *points[std::size_t(i)]; });
+  }
+};
+
+/// Leaf fit used by bottom-up refit and by computeBV for shapes.
+template <typename S>
+struct Fitter<S, fcl_rs::RS<S>>
+{
+  static void fit(const Vector3<S>* const ps, int n, fcl_rs::RS<S>& bv)
+  {
+    bv = n > 0 ? fcl_rs::fitPoints<S>(ps, n) : fcl_rs::RS<S>();
+  }
+};
+
+/// Splits run along the node's own principal axis u0 (not a world axis).
+template <typename S>
+struct ComputeRuleMeanImpl<S, fcl_rs::RS<S>>
+{
+  static void run(BVSplitter<fcl_rs::RS<S>>& splitter, const fcl_rs::RS<S>& bv, unsigned int* primitive_indices,
+                  int num_primitives)
+  {
+    computeSplitVector<S, fcl_rs::RS<S>>(bv, splitter.split_vector);
+    computeSplitValue_mean<S, fcl_rs::RS<S>>(bv, splitter.vertices, splitter.tri_indices, primitive_indices,
+                                             num_primitives, splitter.type, splitter.split_vector,
+                                             splitter.split_value);
+  }
+};
+
+template <typename S>
+struct ComputeRuleMedianImpl<S, fcl_rs::RS<S>>
+{
+  static void run(BVSplitter<fcl_rs::RS<S>>& splitter, const fcl_rs::RS<S>& bv, unsigned int* primitive_indices,
+                  int num_primitives)
+  {
+    computeSplitVector<S, fcl_rs::RS<S>>(bv, splitter.split_vector);
+    computeSplitValue_median<S, fcl_rs::RS<S>>(bv, splitter.vertices, splitter.tri_indices, primitive_indices,
+                                               num_primitives, splitter.type, splitter.split_vector,
+                                               splitter.split_value);
+  }
+};
+
+/// Centre split: the box centre projected on u0 (FCL's generic version reads center[0], a world axis).
+template <typename S>
+struct ComputeRuleCenterImpl<S, fcl_rs::RS<S>>
+{
+  static void run(BVSplitter<fcl_rs::RS<S>>& splitter, const fcl_rs::RS<S>& bv, unsigned int*, int)
+  {
+    computeSplitVector<S, fcl_rs::RS<S>>(bv, splitter.split_vector);
+    splitter.split_value = bv.center().dot(splitter.split_vector);
+  }
+};
+
+template <typename S>
+struct ApplyImpl<S, fcl_rs::RS<S>>
+{
+  static bool run(const BVSplitter<fcl_rs::RS<S>>& splitter, const Vector3<S>& q)
+  {
+    return splitter.split_vector.dot(q) > splitter.split_value;
+  }
+};
+
+/// Planes and halfspaces have no bound vertices: their RS is a slab, unbounded along the plane.
+template <typename S>
+struct ComputeBVImpl<S, fcl_rs::RS<S>, Plane<S>>
+{
+  static void run(const Plane<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
+  {
+    const Plane<S> p = transform(s, tf);
+    bv = fcl_rs::slabRS<S>(p.n, p.d, p.d);
+  }
+};
+
+template <typename S>
+struct ComputeBVImpl<S, fcl_rs::RS<S>, Halfspace<S>>
+{
+  static void run(const Halfspace<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
+  {
+    const Halfspace<S> h = transform(s, tf);
+    bv = fcl_rs::slabRS<S>(h.n, -fcl_rs::unboundedSlab<S>(), h.d);
+  }
+};
+
+}  // namespace detail
+}  // namespace fcl
+
+#endif

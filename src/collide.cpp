@@ -1,0 +1,146 @@
+// fcl_rs::collide: dispatch of RS mesh pairs to the local-frame RS traversal, everything else to FCL.
+#include "fcl_rs/collide.h"
+
+#include <sstream>
+#include <stdexcept>
+
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/detail/collision_func_matrix.h>
+#include <fcl/narrowphase/detail/gjk_solver_indep.h>
+#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+
+#include "fcl_rs/traversal.h"
+
+namespace fcl_rs {
+namespace {
+
+template <typename S>
+const fcl::BVHModel<RS<S>>* asRSMesh(const fcl::CollisionGeometry<S>* g)
+{
+  return dynamic_cast<const fcl::BVHModel<RS<S>>*>(g);
+}
+
+[[noreturn]] void unsupportedPair(int node_type1, int node_type2, const char* why)
+{
+  std::ostringstream msg;
+  msg << "fcl_rs::collide: pair of node types " << node_type1 << " and " << node_type2
+      << " (fcl::NODE_TYPE; an RS mesh reports 0, BV_UNKNOWN) is not supported: " << why;
+  throw std::invalid_argument(msg.str());
+}
+
+template <typename S>
+void requireBuiltTriangles(const fcl::BVHModel<RS<S>>& m)
+{
+  if (m.getModelType() != fcl::BVH_MODEL_TRIANGLES)
+    throw std::invalid_argument("fcl_rs::collide: an RS model must be a triangle mesh (BVH_MODEL_TRIANGLES)");
+  if (m.build_state != fcl::BVH_BUILD_STATE_PROCESSED && m.build_state != fcl::BVH_BUILD_STATE_UPDATED)
+    throw std::invalid_argument("fcl_rs::collide: an RS model's tree is not built (call endModel() first)");
+}
+
+template <typename Shape, typename S, typename Solver>
+std::size_t meshShape(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
+                      const fcl::CollisionGeometry<S>* shape, const fcl::Transform3<S>& tf_shape,
+                      const Solver* solver, const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+{
+  // FCL's own driver (approximate-cost branch included) with our local-frame node.
+  return fcl::detail::orientedBVHShapeCollide<MeshShapeCollisionTraversalNodeRS<Shape, Solver>, RS<S>, Shape, Solver>(
+      mesh, tf_mesh, shape, tf_shape, solver, request, result);
+}
+
+template <typename S, typename Solver>
+std::size_t meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
+                              const fcl::CollisionGeometry<S>* shape, const fcl::Transform3<S>& tf_shape,
+                              const Solver* solver, const fcl::CollisionRequest<S>& request,
+                              fcl::CollisionResult<S>& result)
+{
+  switch (shape->getNodeType())
+  {
+    case fcl::GEOM_BOX: return meshShape<fcl::Box<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_SPHERE: return meshShape<fcl::Sphere<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_ELLIPSOID:
+      return meshShape<fcl::Ellipsoid<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_CAPSULE: return meshShape<fcl::Capsule<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_CONE: return meshShape<fcl::Cone<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_CYLINDER:
+      return meshShape<fcl::Cylinder<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_CONVEX: return meshShape<fcl::Convex<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_PLANE: return meshShape<fcl::Plane<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_HALFSPACE:
+      return meshShape<fcl::Halfspace<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    default:
+      unsupportedPair(mesh->getNodeType(), shape->getNodeType(), "FCL has no mesh test for this shape");
+  }
+}
+
+template <typename S, typename Solver>
+std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
+                      const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2, const Solver* solver,
+                      const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+{
+  const auto* m1 = asRSMesh(o1);
+  const auto* m2 = asRSMesh(o2);
+  if (m1) requireBuiltTriangles(*m1);
+  if (m2) requireBuiltTriangles(*m2);
+  if (m1 && m2)
+    return fcl::detail::orientedMeshCollide<MeshCollisionTraversalNodeRS<S>, RS<S>>(o1, tf1, o2, tf2, request, result);
+  // As in fcl::collide, a shape given first is swapped behind the mesh.
+  const bool mesh_first = m1 != nullptr;
+  const auto* mesh = mesh_first ? o1 : o2;
+  const auto* other = mesh_first ? o2 : o1;
+  if (other->getObjectType() != fcl::OT_GEOM)
+    unsupportedPair(o1->getNodeType(), o2->getNodeType(),
+                    "an RS mesh collides with RS meshes and primitive shapes only");
+  return mesh_first ? meshShapeDispatch(mesh, tf1, other, tf2, solver, request, result)
+                    : meshShapeDispatch(mesh, tf2, other, tf1, solver, request, result);
+}
+
+}  // namespace
+
+template <typename S>
+std::size_t collide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
+                    const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
+                    const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+{
+  if (!o1 || !o2) throw std::invalid_argument("fcl_rs::collide: null collision geometry");
+  if (!asRSMesh(o1) && !asRSMesh(o2)) return fcl::collide(o1, tf1, o2, tf2, request, result);
+  if (request.num_max_contacts == 0) return 0;  // fcl::collide's answer too
+  switch (request.gjk_solver_type)
+  {
+    case fcl::GST_LIBCCD:
+    {
+      fcl::detail::GJKSolver_libccd<S> solver;
+      solver.collision_tolerance = request.gjk_tolerance;
+      return collideRS(o1, tf1, o2, tf2, &solver, request, result);
+    }
+    case fcl::GST_INDEP:
+    {
+      fcl::detail::GJKSolver_indep<S> solver;
+      solver.gjk_tolerance = request.gjk_tolerance;
+      solver.epa_tolerance = request.gjk_tolerance;
+      return collideRS(o1, tf1, o2, tf2, &solver, request, result);
+    }
+  }
+  throw std::invalid_argument("fcl_rs::collide: unknown request.gjk_solver_type");
+}
+
+template <typename S>
+std::size_t collide(const fcl::CollisionObject<S>* o1, const fcl::CollisionObject<S>* o2,
+                    const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+{
+  if (!o1 || !o2) throw std::invalid_argument("fcl_rs::collide: null collision object");
+  return fcl_rs::collide<S>(o1->collisionGeometry().get(), o1->getTransform(), o2->collisionGeometry().get(),
+                 o2->getTransform(), request, result);
+}
+
+template std::size_t collide<float>(const fcl::CollisionObject<float>*, const fcl::CollisionObject<float>*,
+                                    const fcl::CollisionRequest<float>&, fcl::CollisionResult<float>&);
+template std::size_t collide<float>(const fcl::CollisionGeometry<float>*, const fcl::Transform3<float>&,
+                                    const fcl::CollisionGeometry<float>*, const fcl::Transform3<float>&,
+                                    const fcl::CollisionRequest<float>&, fcl::CollisionResult<float>&);
+template std::size_t collide<double>(const fcl::CollisionObject<double>*, const fcl::CollisionObject<double>*,
+                                     const fcl::CollisionRequest<double>&, fcl::CollisionResult<double>&);
+template std::size_t collide<double>(const fcl::CollisionGeometry<double>*, const fcl::Transform3<double>&,
+                                     const fcl::CollisionGeometry<double>*, const fcl::Transform3<double>&,
+                                     const fcl::CollisionRequest<double>&, fcl::CollisionResult<double>&);
+
+}  // namespace fcl_rs
