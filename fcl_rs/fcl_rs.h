@@ -8,6 +8,7 @@
 #include "fcl_rs/traversal.h"
 #include "fcl_rs/collide.h"
 #include "fcl_rs/mesh_io.h"
+#include "fcl_rs/shapes.h"
 #include "fcl_rs/version.h"
 
 #endif

@@ -192,7 +192,7 @@ bool RS<S>::contain(const fcl::Vector3<S>& p) const
 {
   if (empty()) return false;
   const fcl::Vector3<S> y = toFrame(p);
-  const S tol = 8 * detail::eps<S>() * (y.template lpNorm<1>() + magnitude() + (p - origin).template lpNorm<1>());
+  const S tol = 8 * detail::eps<S>() * (y.template lpNorm<1>() + magnitude());
   for (int k = 0; k < kNumSlabs; ++k)
   {
     const S v = projectOnSlab(y, k);
@@ -233,46 +233,48 @@ template <typename S>
 S RS<S>::volume() const
 {
   if (empty()) return 0;
-  // Divergence theorem over the 18 faces: V = sum(area_f * (h_f - n_f . c)) / 3 for an interior c.
-  // Face polygons are the corner points lying on each plane, ordered by angle.
+  // Divergence theorem: V = sum over the 18 faces of area_f * (h_f - n_f . c) / 3, for any point c.
+  // Each face polygon is its plane clipped by the other 17 halfspaces, in double, so thin volumes
+  // need no tolerance to decide which corners lie on which face.
   using V3 = Eigen::Vector3d;
-  std::vector<V3> pts;
-  for (const auto& c : corners()) pts.push_back(c.template cast<double>());
-  V3 interior = V3::Zero();
-  for (const auto& p : pts) interior += p;
-  interior /= double(pts.size());
-  const double tol = 256 * double(detail::eps<S>()) * double(magnitude());
-
+  const V3 c((double(lo[0]) + hi[0]) / 2, (double(lo[1]) + hi[1]) / 2, (double(lo[2]) + hi[2]) / 2);
+  const double reach = 4 * double(magnitude()) + 1;
   double total = 0;
-  for (int k = 0; k < kNumSlabs; ++k)
+  for (int face = 0; face < 2 * kNumSlabs; ++face)
   {
-    for (int side : {+1, -1})
+    auto plane = [this](int f, V3& n) {
+      const int k = f % kNumSlabs;
+      const double side = f < kNumSlabs ? 1.0 : -1.0;
+      n = side * detail::slabDirection<double>(k);
+      return f < kNumSlabs ? double(hi[k]) : -double(lo[k]);
+    };
+    V3 n;
+    const double h = plane(face, n);
+    const V3 a = n.unitOrthogonal(), b = n.cross(a), base = h * n;
+    std::vector<V3> poly = {base + reach * (a + b), base + reach * (b - a), base - reach * (a + b),
+                            base + reach * (a - b)};
+    for (int other = 0; other < 2 * kNumSlabs && !poly.empty(); ++other)
     {
-      const V3 n = double(side) * detail::slabDirection<double>(k);
-      const double h = side > 0 ? double(hi[k]) : -double(lo[k]);
-      std::vector<V3> face;
-      for (const auto& p : pts)
+      if (other == face) continue;
+      V3 m;
+      const double g = plane(other, m);
+      std::vector<V3> kept;
+      for (std::size_t i = 0; i < poly.size(); ++i)
       {
-        if (std::abs(n.dot(p) - h) > tol) continue;
-        bool seen = false;
-        for (const auto& q : face) seen = seen || (q - p).squaredNorm() <= tol * tol;
-        if (!seen) face.push_back(p);
+        const V3& p = poly[i];
+        const V3& q = poly[(i + 1) % poly.size()];
+        const double dp = m.dot(p) - g, dq = m.dot(q) - g;
+        if (dp <= 0) kept.push_back(p);
+        if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) kept.push_back(p + (q - p) * (dp / (dp - dq)));
       }
-      if (face.size() < 3) continue;
-      V3 f = V3::Zero();
-      for (const auto& p : face) f += p;
-      f /= double(face.size());
-      const V3 a = n.unitOrthogonal(), b = n.cross(a);
-      std::sort(face.begin(), face.end(), [&](const V3& p, const V3& q) {
-        return std::atan2((p - f).dot(b), (p - f).dot(a)) < std::atan2((q - f).dot(b), (q - f).dot(a));
-      });
-      double area = 0;
-      for (std::size_t i = 0; i < face.size(); ++i)
-        area += (face[i] - f).cross(face[(i + 1) % face.size()] - f).dot(n);
-      total += 0.5 * std::abs(area) * (h - n.dot(interior)) / 3;
+      poly.swap(kept);
     }
+    double area = 0;
+    for (std::size_t i = 1; i + 1 < poly.size(); ++i)
+      area += (poly[i] - poly[0]).cross(poly[i + 1] - poly[0]).dot(n);
+    total += 0.5 * std::abs(area) * (h - n.dot(c)) / 3;
   }
-  return S(total);
+  return S(std::max(0.0, total));
 }
 
 namespace detail {
@@ -362,6 +364,27 @@ S distance(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, 
     if (Q) *Q = b2.toModel(extreme(b2, -(f.M.transpose() * n)));
   }
   return std::max(S(0), best - f.tol);
+}
+
+template <typename S, typename PointAt>
+RS<S> fitPoints(int n, PointAt point_at)
+{
+  const PrincipalFrame<S> frame = principalFrame<S>(n, point_at);
+  RS<S> bv(frame.axis, frame.mean);
+  for (int i = 0; i < n; ++i) bv += point_at(i);
+  return bv;
+}
+
+template <typename S>
+RS<S> fitPoints(const fcl::Vector3<S>* points, int n)
+{
+  return fitPoints<S>(n, [points](int i) -> const fcl::Vector3<S>& { return points[i]; });
+}
+
+template <typename S>
+void fit(const fcl::Vector3<S>* const points, int n, RS<S>& bv)
+{
+  bv = n > 0 ? fitPoints<S>(points, n) : RS<S>();
 }
 
 template <typename S>

@@ -86,6 +86,17 @@ public:
 using RSf = RS<float>;
 using RSd = RS<double>;
 
+/// RS of n points given by point_at(i): principal frame of the points, then the nine intervals.
+template <typename S, typename PointAt>
+RS<S> fitPoints(int n, PointAt point_at);
+
+template <typename S>
+RS<S> fitPoints(const fcl::Vector3<S>* points, int n);
+
+/// FCL's fit(ps, n, bv) for RS, found by argument-dependent lookup from FCL's refit code.
+template <typename S>
+void fit(const fcl::Vector3<S>* const points, int n, RS<S>& bv);
+
 /// Overlap test in FCL's convention: b2 is mapped into b1's coordinates by x1 = R x2 + T.
 /// Two-sided slab test (b2's corners on b1's nine directions and b1's on b2's): symmetric and
 /// conservative, padded by the rounding error of the transform.

@@ -17,22 +17,6 @@
 
 namespace fcl_rs {
 
-/// RS of n points given by point_at(i): principal frame of the points, then the nine intervals.
-template <typename S, typename PointAt>
-RS<S> fitPoints(int n, PointAt point_at)
-{
-  const PrincipalFrame<S> frame = principalFrame<S>(n, point_at);
-  RS<S> bv(frame.axis, frame.mean);
-  for (int i = 0; i < n; ++i) bv += point_at(i);
-  return bv;
-}
-
-template <typename S>
-RS<S> fitPoints(const fcl::Vector3<S>* points, int n)
-{
-  return fitPoints<S>(n, [points](int i) -> const fcl::Vector3<S>& { return points[i]; });
-}
-
 /// A value standing for "unbounded" in slabs of planes and halfspaces: finite, so that corner
 /// arithmetic stays finite, and small enough that sums of a few of them cannot overflow.
 template <typename S>
@@ -108,7 +92,7 @@ struct Fitter<S, fcl_rs::RS<S>>
 {
   static void fit(const Vector3<S>* const ps, int n, fcl_rs::RS<S>& bv)
   {
-    bv = n > 0 ? fcl_rs::fitPoints<S>(ps, n) : fcl_rs::RS<S>();
+    fcl_rs::fit(ps, n, bv);
   }
 };
 

@@ -1,0 +1,341 @@
+// RS<S> as a bounding volume: containment, corners, support, merge, overlap, distance, volume, trees.
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include <gtest/gtest.h>
+extern "C" {
+#include <libqhull_r/qhull_ra.h>
+}
+
+#include "fcl_rs/fcl_rs.h"
+#include "test_util.h"
+
+namespace fcl_rs {
+namespace {
+
+using test::randomPose;
+using test::randomRotation;
+using test::seededRng;
+
+/// Volume of the convex hull of pts (qhull), 0 when the points span less than 3 dimensions.
+double hullVolume(const std::vector<Eigen::Vector3d>& pts)
+{
+  if (pts.size() < 4) return 0;
+  std::vector<coordT> coords;
+  for (const auto& p : pts) coords.insert(coords.end(), {p.x(), p.y(), p.z()});
+  qhT qh_storage;
+  qhT* qh = &qh_storage;
+  qh_zero(qh, nullptr);
+  char options[] = "qhull FA Qt Pp";
+  const int failed = qh_new_qhull(qh, 3, int(pts.size()), coords.data(), False, options, nullptr, nullptr);
+  const double volume = failed ? 0.0 : qh->totvol;
+  qh_freeqhull(qh, !qh_ALL);
+  int curlong = 0, totlong = 0;
+  qh_memfreeshort(qh, &curlong, &totlong);
+  return volume;
+}
+
+template <typename S>
+S tolerance(S scale)
+{
+  return 512 * std::numeric_limits<S>::epsilon() * scale;
+}
+
+/// Point clouds of several shapes that stress PCA: isotropic, elongated, flat, clustered, tiny.
+template <typename S, typename Rng>
+std::vector<fcl::Vector3<S>> randomCloud(Rng& rng, int kind, int n)
+{
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const fcl::Matrix3<S> R = randomRotation<S>(rng);
+  const fcl::Vector3<S> offset(S(u(rng) * 2), S(u(rng) * 2), S(u(rng) * 2));
+  std::vector<fcl::Vector3<S>> pts;
+  for (int i = 0; i < n; ++i)
+  {
+    fcl::Vector3<S> p;
+    switch (kind % 5)
+    {
+      case 0: p = fcl::Vector3<S>(S(g(rng)), S(g(rng)), S(g(rng))); break;
+      case 1: p = fcl::Vector3<S>(S(5 * u(rng)), S(u(rng)), S(0.2 * u(rng))); break;
+      case 2: p = fcl::Vector3<S>(S(u(rng)), S(u(rng)), 0); break;  // flat
+      case 3: p = fcl::Vector3<S>(S(u(rng)), S(u(rng)), S(u(rng))).normalized(); break;
+      default: p = fcl::Vector3<S>(S(i % 2 ? 3 : -3), 0, 0) + fcl::Vector3<S>(S(u(rng)), S(u(rng)), S(u(rng))) / 10;
+    }
+    pts.push_back(R * p + offset);
+  }
+  return pts;
+}
+
+template <typename S>
+class RSTest : public ::testing::Test
+{
+};
+TYPED_TEST_SUITE(RSTest, test::Scalars);
+
+TYPED_TEST(RSTest, DefaultIsEmptyAndGrowsFromPoints)
+{
+  using S = TypeParam;
+  RS<S> bv;
+  EXPECT_TRUE(bv.empty());
+  EXPECT_FALSE(bv.overlap(bv));
+  EXPECT_FALSE(bv.contain(fcl::Vector3<S>::Zero()));
+  EXPECT_EQ(bv.volume(), S(0));
+  const fcl::Vector3<S> p(1, 2, 3), q(-1, 0, 5);
+  bv += p;
+  EXPECT_FALSE(bv.empty());
+  EXPECT_TRUE(bv.contain(p));
+  EXPECT_FALSE(bv.contain(q));
+  bv += q;
+  EXPECT_TRUE(bv.contain(q));
+  EXPECT_TRUE(bv.contain((p + q) / 2));
+}
+
+TYPED_TEST(RSTest, FitContainsEveryPointAndCornersBoundThePolytope)
+{
+  using S = TypeParam;
+  auto rng = seededRng("FitContainsEveryPoint");
+  std::normal_distribution<double> g(0, 1);
+  for (int trial = 0; trial < 300; ++trial)
+  {
+    const auto pts = randomCloud<S>(rng, trial, 1 + trial % 40);
+    const RS<S> bv = fitPoints<S>(pts.data(), int(pts.size()));
+    const S scale = bv.magnitude() + bv.origin.template lpNorm<1>();
+    // The frame is orthonormal and right-handed.
+    EXPECT_LT((bv.axis.transpose() * bv.axis - fcl::Matrix3<S>::Identity()).norm(), 16 * std::numeric_limits<S>::epsilon());
+    EXPECT_NEAR(bv.axis.determinant(), S(1), 16 * std::numeric_limits<S>::epsilon());
+    for (const auto& p : pts) ASSERT_TRUE(bv.contain(p)) << "trial " << trial;
+
+    const auto corners = bv.corners();
+    for (int c = 0; c < 32; ++c)
+    {
+      // Every corner lies in all 18 halfspaces and on at least three of the planes.
+      int on_planes = 0;
+      for (int k = 0; k < kNumSlabs; ++k)
+      {
+        const S v = projectOnSlab(corners[c], k);
+        EXPECT_GE(v, bv.lo[k] - tolerance(scale)) << "trial " << trial << " corner " << c << " slab " << k;
+        EXPECT_LE(v, bv.hi[k] + tolerance(scale)) << "trial " << trial << " corner " << c << " slab " << k;
+        on_planes += std::abs(v - bv.lo[k]) <= tolerance(scale);
+        on_planes += std::abs(v - bv.hi[k]) <= tolerance(scale);
+      }
+      EXPECT_GE(on_planes, 3) << "trial " << trial << " corner " << c;
+    }
+    // The corners' hull contains every point: no direction finds a point beyond the corners, and
+    // the octant trick (4 vertices) gives the same support as all 32 corners.
+    for (int d = 0; d < 50; ++d)
+    {
+      const fcl::Vector3<S> dir = fcl::Vector3<S>(S(g(rng)), S(g(rng)), S(g(rng))).normalized();
+      S all = -std::numeric_limits<S>::max();
+      for (const auto& c : corners) all = std::max(all, dir.dot(c));
+      EXPECT_NEAR(bv.support(dir), all, tolerance(scale));
+      for (const auto& p : pts) ASSERT_LE(dir.dot(bv.toFrame(p)), bv.support(dir) + tolerance(scale));
+    }
+  }
+}
+
+TYPED_TEST(RSTest, MergeContainsBothInputs)
+{
+  using S = TypeParam;
+  auto rng = seededRng("MergeContainsBothInputs");
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    const auto a = randomCloud<S>(rng, trial, 5 + trial % 20);
+    const auto b = randomCloud<S>(rng, trial + 2, 5 + trial % 13);
+    const RS<S> ra = fitPoints<S>(a.data(), int(a.size())), rb = fitPoints<S>(b.data(), int(b.size()));
+    const RS<S> merged = ra + rb;
+    for (const auto& p : a) ASSERT_TRUE(merged.contain(p)) << "trial " << trial;
+    for (const auto& p : b) ASSERT_TRUE(merged.contain(p)) << "trial " << trial;
+    for (const auto& c : ra.corners()) ASSERT_TRUE(merged.contain(ra.toModel(c))) << "trial " << trial;
+    for (const auto& c : rb.corners()) ASSERT_TRUE(merged.contain(rb.toModel(c))) << "trial " << trial;
+    EXPECT_TRUE((ra + RS<S>()).contain(a.front()));
+    EXPECT_TRUE((RS<S>() + rb).contain(b.front()));
+  }
+}
+
+TYPED_TEST(RSTest, OverlapIsSymmetricAndConservative)
+{
+  using S = TypeParam;
+  auto rng = seededRng("OverlapIsSymmetricAndConservative");
+  std::uniform_real_distribution<double> u(-1, 1);
+  int overlapping = 0, separated = 0;
+  for (int trial = 0; trial < 2000; ++trial)
+  {
+    const auto a = randomCloud<S>(rng, trial, 8);
+    auto b = randomCloud<S>(rng, trial + 1, 8);
+    const fcl::Transform3<S> tf = randomPose<S>(rng, S(4));
+    const RS<S> ra = fitPoints<S>(a.data(), int(a.size())), rb = fitPoints<S>(b.data(), int(b.size()));
+    const fcl::Matrix3<S> R = tf.linear();
+    const fcl::Vector3<S> T = tf.translation();
+    const bool ab = overlap(R, T, ra, rb);
+    const bool ba = overlap<S>(R.transpose(), -(R.transpose() * T), rb, ra);
+    EXPECT_EQ(ab, ba) << "trial " << trial;
+    (ab ? overlapping : separated)++;
+
+    // Same coordinates: symmetric too.
+    std::vector<fcl::Vector3<S>> moved;
+    for (const auto& p : b) moved.push_back(tf * p);
+    const RS<S> rm = fitPoints<S>(moved.data(), int(moved.size()));
+    EXPECT_EQ(ra.overlap(rm), rm.overlap(ra)) << "trial " << trial;
+
+    // Sharing one point means touching: never reported separate.
+    const fcl::Vector3<S> shared = a[std::size_t(trial) % a.size()];
+    b.push_back(tf.inverse(Eigen::Isometry) * shared);
+    const RS<S> touching = fitPoints<S>(b.data(), int(b.size()));
+    EXPECT_TRUE(overlap(R, T, ra, touching)) << "trial " << trial;
+  }
+  EXPECT_GT(overlapping, 100);
+  EXPECT_GT(separated, 100);
+}
+
+TYPED_TEST(RSTest, DistanceIsALowerBound)
+{
+  using S = TypeParam;
+  auto rng = seededRng("DistanceIsALowerBound");
+  int positive = 0;
+  for (int trial = 0; trial < 1000; ++trial)
+  {
+    const auto a = randomCloud<S>(rng, trial, 10);
+    const auto b = randomCloud<S>(rng, trial + 3, 10);
+    const fcl::Transform3<S> tf = randomPose<S>(rng, S(20));
+    const RS<S> ra = fitPoints<S>(a.data(), int(a.size())), rb = fitPoints<S>(b.data(), int(b.size()));
+    S closest = std::numeric_limits<S>::max();
+    for (const auto& p : a)
+      for (const auto& q : b) closest = std::min(closest, (p - tf * q).norm());
+    fcl::Vector3<S> P, Q;
+    const S d = distance<S>(tf.linear(), tf.translation(), ra, rb, &P, &Q);
+    EXPECT_GE(d, S(0));
+    EXPECT_LE(d, closest * (1 + tolerance(S(1)))) << "trial " << trial;
+    if (d > 0)
+    {
+      ++positive;
+      EXPECT_FALSE(overlap<S>(tf.linear(), tf.translation(), ra, rb)) << "trial " << trial;
+      // Witness points lie on their volumes and are at least the bound apart.
+      EXPECT_TRUE(ra.contain(P));
+      EXPECT_TRUE(rb.contain(Q));
+      EXPECT_GE((P - tf * Q).norm(), d * (1 - tolerance(S(1))));
+    }
+  }
+  EXPECT_GT(positive, 100);
+}
+
+TYPED_TEST(RSTest, VolumeIsExactBetweenHullAndBox)
+{
+  using S = TypeParam;
+  auto rng = seededRng("VolumeIsExactBetweenHullAndBox");
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    const auto pts = randomCloud<S>(rng, trial, 6 + trial % 30);
+    const RS<S> bv = fitPoints<S>(pts.data(), int(pts.size()));
+    std::vector<Eigen::Vector3d> input, corners;
+    for (const auto& p : pts) input.push_back(p.template cast<double>());
+    for (const auto& c : bv.corners()) corners.push_back(c.template cast<double>());
+    const double volume = double(bv.volume());
+    const double rel = std::is_same<S, float>::value ? 1e-3 : 1e-8;
+    const double box = double(bv.width()) * double(bv.height()) * double(bv.depth());
+    EXPECT_LE(volume, box * (1 + rel)) << "trial " << trial;
+    // Flat clouds give slabs only a few ulps thick, where qhull's reference is itself noise.
+    if (double(bv.depth()) < 1e-3 * double(bv.width())) continue;
+    EXPECT_NEAR(volume, hullVolume(corners), rel * box) << "trial " << trial;  // the exact polytope volume
+    EXPECT_GE(volume, hullVolume(input) * (1 - rel)) << "trial " << trial;
+  }
+  // A box with distinct extents, in any pose, is its own RS (the PCA frame is its frame).
+  auto box = makeBox<S>(6, 3, 1);
+  const fcl::Transform3<S> tf = randomPose<S>(rng, S(5));
+  for (auto& v : box.vertices) v = tf * v;
+  const RS<S> bv = fitPoints<S>(box.vertices.data(), int(box.vertices.size()));
+  EXPECT_NEAR(bv.volume(), S(18), S(std::is_same<S, float>::value ? 1e-3 : 1e-9) * 18);
+}
+
+TYPED_TEST(RSTest, CentreAndExtentBallContainsTheVolume)
+{
+  using S = TypeParam;
+  auto rng = seededRng("CentreAndExtentBall");
+  for (int trial = 0; trial < 100; ++trial)
+  {
+    const auto pts = randomCloud<S>(rng, trial, 20);
+    const RS<S> bv = fitPoints<S>(pts.data(), int(pts.size()));
+    const S radius = fcl::Vector3<S>(bv.width(), bv.height(), bv.depth()).norm() / 2;
+    for (const auto& c : bv.corners())
+      EXPECT_LE((bv.toModel(c) - bv.center()).norm(), radius * (1 + tolerance(S(1))) + tolerance(bv.magnitude()));
+    EXPECT_NEAR(bv.size(), bv.width() * bv.width() + bv.height() * bv.height() + bv.depth() * bv.depth(),
+                tolerance(bv.size()));
+  }
+}
+
+TYPED_TEST(RSTest, PlaneAndHalfspaceBounds)
+{
+  using S = TypeParam;
+  auto rng = seededRng("PlaneAndHalfspaceBounds");
+  const fcl::Transform3<S> tf = randomPose<S>(rng, S(3));
+  const fcl::Plane<S> plane(fcl::Vector3<S>(0, 0, 1), S(0.5));
+  const fcl::Halfspace<S> half(fcl::Vector3<S>(0, 0, 1), S(0.5));
+  RS<S> pb, hb;
+  fcl::computeBV(plane, tf, pb);
+  fcl::computeBV(half, tf, hb);
+  std::uniform_real_distribution<double> u(-100, 100);
+  for (int i = 0; i < 100; ++i)
+  {
+    const fcl::Vector3<S> on_plane = tf * fcl::Vector3<S>(S(u(rng)), S(u(rng)), S(0.5));
+    const fcl::Vector3<S> below = tf * fcl::Vector3<S>(S(u(rng)), S(u(rng)), S(0.5 - std::abs(u(rng))));
+    EXPECT_TRUE(pb.contain(on_plane));
+    EXPECT_TRUE(hb.contain(on_plane));
+    EXPECT_TRUE(hb.contain(below));
+  }
+  // Tight along the normal: the bounded slab is exactly the plane's offset.
+  const fcl::Vector3<S> normal = tf.linear().col(2);
+  for (const RS<S>* bv : {&pb, &hb})
+  {
+    EXPECT_NEAR(std::abs(bv->axis.col(0).dot(normal)), S(1), tolerance(S(1)));
+    EXPECT_NEAR(bv->hi[0] * bv->axis.col(0).dot(normal), normal.dot(tf * fcl::Vector3<S>(0, 0, S(0.5))), tolerance(S(8)));
+  }
+  EXPECT_EQ(pb.lo[0], pb.hi[0]);
+}
+
+/// Every node of the tree contains every vertex of every triangle below it.
+template <typename S>
+void expectTreeContainsTriangles(const fcl::BVHModel<RS<S>>& model, const TriangleMesh<S>& mesh)
+{
+  std::function<std::vector<int>(int)> below = [&](int node) -> std::vector<int> {
+    const auto& n = model.getBV(node);
+    if (n.isLeaf()) return {n.primitiveId()};
+    auto left = below(n.leftChild());
+    const auto right = below(n.rightChild());
+    left.insert(left.end(), right.begin(), right.end());
+    return left;
+  };
+  for (int i = 0; i < model.getNumBVs(); ++i)
+    for (int t : below(i))
+      for (int c = 0; c < 3; ++c)
+        ASSERT_TRUE(model.getBV(i).bv.contain(mesh.vertices[mesh.triangles[std::size_t(t)][c]]))
+            << "node " << i << " triangle " << t;
+}
+
+TYPED_TEST(RSTest, TreeNodesContainTheirTrianglesAfterBuildAndRefit)
+{
+  using S = TypeParam;
+  auto rng = seededRng("TreeNodesContainTheirTriangles");
+  const auto mesh = makeTorus<S>(S(2), S(0.5), 16, 8);
+  for (auto split : {fcl::detail::SPLIT_METHOD_MEAN, fcl::detail::SPLIT_METHOD_MEDIAN, fcl::detail::SPLIT_METHOD_BV_CENTER})
+  {
+    auto model = buildModel<RS<S>>(mesh, split);
+    EXPECT_EQ(model->getNumBVs(), 2 * int(mesh.triangles.size()) - 1);
+    expectTreeContainsTriangles(*model, mesh);
+
+    // Deform and refit bottom-up (leaf fits + merges) and top-down (fits only).
+    for (bool bottomup : {true, false})
+    {
+      TriangleMesh<S> moved = mesh;
+      std::normal_distribution<double> g(0, 0.1);
+      for (auto& v : moved.vertices) v += fcl::Vector3<S>(S(g(rng)), S(g(rng)), S(g(rng)));
+      ASSERT_EQ(model->beginUpdateModel(), fcl::BVH_OK);
+      for (const auto& v : moved.vertices) model->updateVertex(v);
+      ASSERT_EQ(model->endUpdateModel(true, bottomup), fcl::BVH_OK);
+      expectTreeContainsTriangles(*model, moved);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace fcl_rs

@@ -1,0 +1,138 @@
+// Shared test helpers: seeded and logged randomness, uniform rotations, meshes, brute-force oracle.
+#ifndef FCL_RS_TESTS_TEST_UTIL_H
+#define FCL_RS_TESTS_TEST_UTIL_H
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <random>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fcl/narrowphase/collision_result.h>
+#include <fcl/narrowphase/detail/traversal/collision/intersect.h>
+#include <gtest/gtest.h>
+
+#include "fcl_rs/mesh_io.h"
+#include "fcl_rs/shapes.h"
+
+namespace fcl_rs {
+namespace test {
+
+using Scalars = ::testing::Types<float, double>;
+
+/// A seeded generator; the seed (FCL_RS_TEST_SEED, or a fixed default) is logged so any failure replays.
+inline std::mt19937_64 seededRng(const std::string& what)
+{
+  const char* env = std::getenv("FCL_RS_TEST_SEED");
+  const unsigned long long seed = env ? std::strtoull(env, nullptr, 10) : 20261121ULL;
+  std::cout << "[seed] " << what << ": FCL_RS_TEST_SEED=" << seed << "\n";
+  return std::mt19937_64(seed ^ std::hash<std::string>()(what));
+}
+
+/// Uniformly distributed rotation (Shoemake's method: a uniform unit quaternion).
+template <typename S, typename Rng>
+fcl::Matrix3<S> randomRotation(Rng& rng)
+{
+  std::uniform_real_distribution<double> u(0, 1);
+  const double u1 = u(rng), u2 = 2 * M_PI * u(rng), u3 = 2 * M_PI * u(rng);
+  const Eigen::Quaterniond q(std::sqrt(u1) * std::cos(u3), std::sqrt(1 - u1) * std::sin(u2),
+                             std::sqrt(1 - u1) * std::cos(u2), std::sqrt(u1) * std::sin(u3));
+  return q.toRotationMatrix().cast<S>();
+}
+
+/// Rigid transform with a uniform rotation and a translation uniform in [-extent, extent]^3.
+template <typename S, typename Rng>
+fcl::Transform3<S> randomPose(Rng& rng, S extent)
+{
+  std::uniform_real_distribution<double> u(-1, 1);
+  fcl::Transform3<S> tf = fcl::Transform3<S>::Identity();
+  tf.linear() = randomRotation<S>(rng);
+  tf.translation() = fcl::Vector3<S>(S(u(rng)), S(u(rng)), S(u(rng))) * extent;
+  return tf;
+}
+
+/// Radius of the ball about the origin containing every vertex.
+template <typename S>
+S meshRadius(const TriangleMesh<S>& m)
+{
+  S r = 0;
+  for (const auto& v : m.vertices) r = std::max(r, v.norm());
+  return r;
+}
+
+using TrianglePairs = std::set<std::pair<int, int>>;
+
+/// Every intersecting triangle pair, by looping over all pairs with FCL's own local-frame triangle test
+/// (x1 = R x2 + T). A padded box check skips pairs that are far apart; it never skips a touching pair.
+template <typename S>
+TrianglePairs bruteForcePairs(const TriangleMesh<S>& m1, const fcl::Transform3<S>& tf1, const TriangleMesh<S>& m2,
+                              const fcl::Transform3<S>& tf2)
+{
+  const fcl::Transform3<S> rel = tf1.inverse(Eigen::Isometry) * tf2;
+  const fcl::Matrix3<S> R = rel.linear();
+  const fcl::Vector3<S> T = rel.translation();
+  std::vector<fcl::Vector3<S>> moved;
+  moved.reserve(m2.vertices.size());
+  for (const auto& v : m2.vertices) moved.push_back(R * v + T);
+  auto box = [](const fcl::Vector3<S>& a, const fcl::Vector3<S>& b, const fcl::Vector3<S>& c) {
+    return std::make_pair(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c));
+  };
+  S scale = 0;
+  for (const auto& v : m1.vertices) scale = std::max(scale, v.cwiseAbs().maxCoeff());
+  for (const auto& v : moved) scale = std::max(scale, v.cwiseAbs().maxCoeff());
+  const S pad = 64 * std::numeric_limits<S>::epsilon() * (scale + T.cwiseAbs().maxCoeff());
+  std::vector<std::pair<fcl::Vector3<S>, fcl::Vector3<S>>> boxes2;
+  for (const auto& t : m2.triangles) boxes2.push_back(box(moved[t[0]], moved[t[1]], moved[t[2]]));
+
+  TrianglePairs pairs;
+  for (std::size_t i = 0; i < m1.triangles.size(); ++i)
+  {
+    const auto& t1 = m1.triangles[i];
+    const auto b1 = box(m1.vertices[t1[0]], m1.vertices[t1[1]], m1.vertices[t1[2]]);
+    for (std::size_t j = 0; j < m2.triangles.size(); ++j)
+    {
+      const auto& b2 = boxes2[j];
+      if (((b1.first.array() - pad) > b2.second.array()).any() || ((b2.first.array() - pad) > b1.second.array()).any())
+        continue;
+      const auto& t2 = m2.triangles[j];
+      if (fcl::detail::Intersect<S>::intersect_Triangle(m1.vertices[t1[0]], m1.vertices[t1[1]], m1.vertices[t1[2]],
+                                                          m2.vertices[t2[0]], m2.vertices[t2[1]], m2.vertices[t2[2]],
+                                                          R, T))
+        pairs.emplace(int(i), int(j));
+    }
+  }
+  return pairs;
+}
+
+/// The triangle pairs a collision result reports.
+template <typename S>
+TrianglePairs contactPairs(const fcl::CollisionResult<S>& result)
+{
+  TrianglePairs pairs;
+  for (std::size_t i = 0; i < result.numContacts(); ++i)
+    pairs.emplace(result.getContact(i).b1, result.getContact(i).b2);
+  return pairs;
+}
+
+/// Path under ../shared/data, or empty when that folder is absent.
+inline std::string sharedData(const std::string& relative)
+{
+  const std::filesystem::path p = std::filesystem::path(FCL_RS_SHARED_DATA_DIR) / relative;
+  return std::filesystem::exists(p) ? p.string() : std::string();
+}
+
+/// Path of a Debian assimp-testmodels file, or empty when the package is not installed.
+inline std::string assimpModel(const std::string& relative)
+{
+  const std::filesystem::path p = std::filesystem::path(FCL_RS_ASSIMP_MODELS_DIR) / relative;
+  return std::filesystem::exists(p) ? p.string() : std::string();
+}
+
+}  // namespace test
+}  // namespace fcl_rs
+
+#endif
