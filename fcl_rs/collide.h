@@ -46,6 +46,13 @@ QueryStats collideWithStats(const fcl::BVHModel<BV>& model1, const fcl::Transfor
                             const fcl::CollisionRequest<typename BV::S>& request,
                             fcl::CollisionResult<typename BV::S>& result);
 
+/// collideWithStats for RS trees with a chosen overlap test (the other overloads use kTwoSided).
+template <typename S>
+QueryStats collideWithStats(const fcl::BVHModel<RS<S>>& model1, const fcl::Transform3<S>& tf1,
+                            const fcl::BVHModel<RS<S>>& model2, const fcl::Transform3<S>& tf2,
+                            const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result,
+                            OverlapTest test);
+
 #define FCL_RS_DECLARE_COLLIDE(S)                                                                            \
   extern template std::size_t collide<S>(const fcl::CollisionObject<S>*, const fcl::CollisionObject<S>*,     \
                                          const fcl::CollisionRequest<S>&, fcl::CollisionResult<S>&);         \

@@ -129,18 +129,19 @@ S RS<S>::magnitude() const
 }
 
 template <typename S>
-std::array<fcl::Vector3<S>, 4> RS<S>::cornerVertices(int octant) const
+void RS<S>::cornerVertices(int octant, fcl::Vector3<S>* v) const
 {
   // Tribox: work in the frame reflected so that this corner is (+,+,+); X, Y, Z are the principal
   // planes and Cxy, Cxz, Cyz the unnormalised chamfer planes (x+y <= Cxy, ...).
-  const S s[3] = {(octant & 1) ? S(-1) : S(1), (octant & 2) ? S(-1) : S(1), (octant & 4) ? S(-1) : S(1)};
-  auto principal = [&](int i) { return s[i] > 0 ? hi[i] : -lo[i]; };
-  auto chamfer = [&](int i, int j) {
-    const int k = diagonalIndex(i, j, s[i] == s[j] ? +1 : -1);
-    return S(M_SQRT2) * (s[i] > 0 ? hi[k] : -lo[k]);
+  const bool nx = octant & 1, ny = octant & 2, nz = octant & 4;
+  const S X = nx ? -lo[0] : hi[0], Y = ny ? -lo[1] : hi[1], Z = nz ? -lo[2] : hi[2];
+  auto chamfer = [this](bool ni, bool nj, int plus, int minus) {
+    const int k = ni == nj ? plus : minus;
+    return S(M_SQRT2) * (ni ? -lo[k] : hi[k]);
   };
-  const S X = principal(0), Y = principal(1), Z = principal(2);
-  const S Cxy = chamfer(0, 1), Cxz = chamfer(0, 2), Cyz = chamfer(1, 2);
+  const S Cxy = chamfer(nx, ny, diagonalIndex(0, 1, +1), diagonalIndex(0, 1, -1));
+  const S Cxz = chamfer(nx, nz, diagonalIndex(0, 2, +1), diagonalIndex(0, 2, -1));
+  const S Cyz = chamfer(ny, nz, diagonalIndex(1, 2, +1), diagonalIndex(1, 2, -1));
 
   // The chamfer triple point can pass at most one principal plane (the slab values are a support
   // function), which leaves four configurations of four vertices each.
@@ -149,16 +150,38 @@ std::array<fcl::Vector3<S>, 4> RS<S>::cornerVertices(int octant) const
   const S ez = (Cxz + Cyz - Cxy) / 2 - Z;
   using V = fcl::Vector3<S>;
   const V onA(X, Cxy - X, Cxz - X), onB(Cxy - Y, Y, Cyz - Y), onC(Cxz - Z, Cyz - Z, Z);
-  std::array<V, 4> v;
   if (ex <= 0 && ey <= 0 && ez <= 0)
-    v = {V(ex + X, ey + Y, ez + Z), onA, onB, onC};
+  {
+    v[0] = V(ex + X, ey + Y, ez + Z);
+    v[1] = onA; v[2] = onB; v[3] = onC;
+  }
   else if (ex >= ey && ex >= ez)
-    v = {V(X, Cxy - X, Cyz - Cxy + X), V(X, Cyz - Cxz + X, Cxz - X), onB, onC};
+  {
+    v[0] = V(X, Cxy - X, Cyz - Cxy + X);
+    v[1] = V(X, Cyz - Cxz + X, Cxz - X);
+    v[2] = onB; v[3] = onC;
+  }
   else if (ey >= ez)
-    v = {V(Cxy - Y, Y, Cxz - Cxy + Y), V(Cxz - Cyz + Y, Y, Cyz - Y), onA, onC};
+  {
+    v[0] = V(Cxy - Y, Y, Cxz - Cxy + Y);
+    v[1] = V(Cxz - Cyz + Y, Y, Cyz - Y);
+    v[2] = onA; v[3] = onC;
+  }
   else
-    v = {V(Cxz - Z, Cxy - Cxz + Z, Z), V(Cxy - Cyz + Z, Cyz - Z, Z), onA, onB};
-  for (auto& p : v) p = p.cwiseProduct(V(s[0], s[1], s[2]));
+  {
+    v[0] = V(Cxz - Z, Cxy - Cxz + Z, Z);
+    v[1] = V(Cxy - Cyz + Z, Cyz - Z, Z);
+    v[2] = onA; v[3] = onB;
+  }
+  const V sign(nx ? S(-1) : S(1), ny ? S(-1) : S(1), nz ? S(-1) : S(1));
+  for (int i = 0; i < 4; ++i) v[i] = v[i].cwiseProduct(sign);
+}
+
+template <typename S>
+std::array<fcl::Vector3<S>, 4> RS<S>::cornerVertices(int octant) const
+{
+  std::array<fcl::Vector3<S>, 4> v;
+  cornerVertices(octant, v.data());
   return v;
 }
 
@@ -168,8 +191,7 @@ std::array<fcl::Vector3<S>, 32> RS<S>::corners() const
   std::array<fcl::Vector3<S>, 32> all;
   for (int o = 0; o < 8; ++o)
   {
-    const auto c = cornerVertices(o);
-    std::copy(c.begin(), c.end(), all.begin() + 4 * o);
+    cornerVertices(o, all.data() + 4 * o);
   }
   return all;
 }
@@ -279,6 +301,14 @@ S RS<S>::volume() const
 
 namespace detail {
 
+/// Largest absolute principal-box value: every point of the volume, corners included, has frame
+/// coordinates within it, so it scales the rounding error of anything computed from the volume.
+template <typename S>
+S boxMagnitude(const RS<S>& b)
+{
+  return std::max(b.lo.template head<3>().cwiseAbs().maxCoeff(), b.hi.template head<3>().cwiseAbs().maxCoeff());
+}
+
 /// b2 expressed in b1's frame: y1 = M y2 + t, with the rounding tolerance of tests made there.
 template <typename S>
 struct RelativeFrame
@@ -292,44 +322,108 @@ struct RelativeFrame
     const fcl::Vector3<S> o2 = R * b2.origin;
     M.noalias() = b1.axis.transpose() * (R * b2.axis);
     t.noalias() = b1.axis.transpose() * (o2 + T - b1.origin);
-    // t loses a few ulps of the magnitudes it is computed from; the corners of a few ulps of the
-    // slab values; M y of a few ulps of |y|.
+    // t loses a few ulps of the magnitudes it is computed from; corners and projections a few ulps
+    // of the volumes' extents (diagonal values are at most sqrt(2) times the box values).
     tol = 32 * eps<S>() *
           (o2.template lpNorm<1>() + T.template lpNorm<1>() + b1.origin.template lpNorm<1>() +
-           2 * (b1.magnitude() + b2.magnitude()));
+           3 * (boxMagnitude(b1) + boxMagnitude(b2)));
   }
 };
 
+/// Support function of one volume with each octant's corner computed at most once per test.
+template <typename S>
+class SupportCache
+{
+public:
+  explicit SupportCache(const RS<S>& bv) : bv_(bv) {}
+
+  S operator()(const fcl::Vector3<S>& dir)
+  {
+    const int o = octantOf(dir);
+    if (!(ready_ & (1u << o)))
+    {
+      bv_.cornerVertices(o, corners_[o]);
+      ready_ |= 1u << o;
+    }
+    const fcl::Vector3<S>* v = corners_[o];
+    return std::max(std::max(dir.dot(v[0]), dir.dot(v[1])), std::max(dir.dot(v[2]), dir.dot(v[3])));
+  }
+
+private:
+  const RS<S>& bv_;
+  unsigned ready_ = 0;
+  fcl::Vector3<S> corners_[8][4];
+};
+
+/// Whether the principal boxes (which contain the volumes) are apart along one of their 6 face
+/// axes: a cheap conservative filter that rejects most separated pairs before any corner is built.
+template <typename S>
+bool boxesSeparated(const RelativeFrame<S>& f, const RS<S>& b1, const RS<S>& b2)
+{
+  const fcl::Vector3<S> c1 = (b1.lo.template head<3>() + b1.hi.template head<3>()) / 2;
+  const fcl::Vector3<S> h1 = (b1.hi.template head<3>() - b1.lo.template head<3>()) / 2;
+  const fcl::Vector3<S> c2 = (b2.lo.template head<3>() + b2.hi.template head<3>()) / 2;
+  const fcl::Vector3<S> h2 = (b2.hi.template head<3>() - b2.lo.template head<3>()) / 2;
+  const fcl::Matrix3<S> A = f.M.cwiseAbs();
+  if (((f.M * c2 + f.t - c1).cwiseAbs() - h1 - A * h2).maxCoeff() > f.tol) return true;
+  return ((f.M.transpose() * (c1 - f.t) - c2).cwiseAbs() - h2 - A.transpose() * h1).maxCoeff() > f.tol;
+}
+
 /// Gap between b1 and b2 along slab k of b1 (k < 9) or of b2 (k >= 9); positive means separated.
 template <typename S>
-S slabGap(const RelativeFrame<S>& f, const RS<S>& b1, const RS<S>& b2, int k)
+S slabGap(const RelativeFrame<S>& f, const RS<S>& b1, const RS<S>& b2, SupportCache<S>& h1, SupportCache<S>& h2,
+          int k)
 {
   if (k < kNumSlabs)
   {
     const fcl::Vector3<S> e = slabOfRows(f.M, k);  // b1's direction in b2's frame
-    const S shift = slabDirection<S>(k).dot(f.t);
-    const S max2 = b2.support(e) + shift, min2 = -b2.support(-e) + shift;
+    const S shift = projectOnSlab(f.t, k);
+    const S max2 = h2(e) + shift, min2 = -h2(-e) + shift;
     return std::max(min2 - b1.hi[k], b1.lo[k] - max2);
   }
   k -= kNumSlabs;
   const fcl::Vector3<S> e = slabOfColumns(f.M, k);  // b2's direction in b1's frame
   const S shift = e.dot(f.t);
-  const S max1 = b1.support(e) - shift, min1 = -b1.support(-e) - shift;
+  const S max1 = h1(e) - shift, min1 = -h1(-e) - shift;
   return std::max(min1 - b2.hi[k], b2.lo[k] - max1);
 }
 
-/// Slab order for early exit: the three principal axes of each volume first, then the diagonals.
-inline constexpr std::array<int, 18> kSlabTestOrder = {0, 9, 1, 10, 2, 11, 3, 12, 4, 13, 5, 14, 6, 15, 7, 16, 8, 17};
+/// Slab order for early exit: the diagonals first (the box filter has already tried the principal
+/// axes with the boxes), then the principal axes with the exact polytopes.
+inline constexpr std::array<int, 18> kSlabTestOrder = {3, 12, 4, 13, 5, 14, 6, 15, 7, 16, 8, 17, 0, 9, 1, 10, 2, 11};
 
 }  // namespace detail
 
 template <typename S>
-bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
+bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2, OverlapTest test)
 {
   if (b1.empty() || b2.empty()) return false;
   const detail::RelativeFrame<S> f(R, T, b1, b2);
+  if (detail::boxesSeparated(f, b1, b2)) return false;
+  if (test == OverlapTest::kBoxed)
+  {
+    // Each volume's diagonal slabs against the other's principal box: no corner is built.
+    const fcl::Vector3<S> c1 = (b1.lo.template head<3>() + b1.hi.template head<3>()) / 2;
+    const fcl::Vector3<S> h1 = (b1.hi.template head<3>() - b1.lo.template head<3>()) / 2;
+    const fcl::Vector3<S> c2 = (b2.lo.template head<3>() + b2.hi.template head<3>()) / 2;
+    const fcl::Vector3<S> h2 = (b2.hi.template head<3>() - b2.lo.template head<3>()) / 2;
+    const fcl::Vector3<S> c2_in_1 = f.M * c2 + f.t, c1_in_2 = f.M.transpose() * (c1 - f.t);
+    for (int k = 3; k < kNumSlabs; ++k)
+    {
+      const S c = projectOnSlab(c2_in_1, k), r = detail::slabOfRows(f.M, k).cwiseAbs().dot(h2);
+      if (c - r > b1.hi[k] + f.tol || c + r < b1.lo[k] - f.tol) return false;
+      const S cc = projectOnSlab(c1_in_2, k), rr = detail::slabOfColumns(f.M, k).cwiseAbs().dot(h1);
+      if (cc - rr > b2.hi[k] + f.tol || cc + rr < b2.lo[k] - f.tol) return false;
+    }
+    return true;
+  }
+  detail::SupportCache<S> h1(b1), h2(b2);
   for (int k : detail::kSlabTestOrder)
-    if (detail::slabGap(f, b1, b2, k) > f.tol) return false;
+  {
+    // One-sided: only b2's polytope on b1's directions (k < 9), as in the paper.
+    if (test == OverlapTest::kOneSided && k >= kNumSlabs) continue;
+    if (detail::slabGap(f, b1, b2, h1, h2, k) > f.tol) return false;
+  }
   return true;
 }
 
@@ -339,11 +433,12 @@ S distance(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, 
 {
   if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
   const detail::RelativeFrame<S> f(R, T, b1, b2);
+  detail::SupportCache<S> h1(b1), h2(b2);
   S best = -std::numeric_limits<S>::max();
   int best_k = 0;
   for (int k = 0; k < 2 * kNumSlabs; ++k)
   {
-    const S gap = detail::slabGap(f, b1, b2, k);
+    const S gap = detail::slabGap(f, b1, b2, h1, h2, k);
     if (gap > best) { best = gap; best_k = k; }
   }
   if (P || Q)

@@ -69,6 +69,7 @@ public:
   /// The 4 vertices of the polytope's corner in octant `octant` (bit i set = negative along u_i),
   /// in frame coordinates (Tribox construction). All 8 corners give the <= 32 polytope vertices.
   std::array<fcl::Vector3<S>, 4> cornerVertices(int octant) const;
+  void cornerVertices(int octant, fcl::Vector3<S>* out4) const;
   /// All 32 corner points (with repeats where the polytope has fewer vertices), frame coordinates.
   std::array<fcl::Vector3<S>, 32> corners() const;
   /// max over the polytope of dir . y, for dir in frame coordinates (octant trick: 4 dot products).
@@ -97,11 +98,21 @@ RS<S> fitPoints(const fcl::Vector3<S>* points, int n);
 template <typename S>
 void fit(const fcl::Vector3<S>* const points, int n, RS<S>& bv);
 
+/// How two RS volumes are tested for overlap. Every variant first rejects pairs whose principal
+/// boxes are apart along a face axis, and every variant is conservative (never reports touching
+/// volumes as separate); they trade pruning for time.
+enum class OverlapTest
+{
+  kTwoSided,  ///< exact polytopes on all 18 slab directions (both volumes'); symmetric, the tightest
+  kOneSided,  ///< the paper's test: b2's polytope on b1's nine directions only
+  kBoxed,     ///< each volume's nine slabs against the other's principal box; builds no corners
+};
+
 /// Overlap test in FCL's convention: b2 is mapped into b1's coordinates by x1 = R x2 + T.
-/// Two-sided slab test (b2's corners on b1's nine directions and b1's on b2's): symmetric and
-/// conservative, padded by the rounding error of the transform.
+/// Padded by the rounding error of the transform and of the corner arithmetic.
 template <typename S>
-bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2);
+bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2,
+             OverlapTest test = OverlapTest::kTwoSided);
 
 /// Lower bound on the distance between b1 and b2 (b2 mapped by x1 = R x2 + T): the largest gap
 /// over the 18 slab directions, minus rounding. P (in b1's coordinates) and Q (in b2's) receive

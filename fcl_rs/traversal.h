@@ -23,7 +23,7 @@ public:
   bool BVTesting(int b1, int b2) const override
   {
     if (this->enable_statistics) this->num_bv_tests++;
-    return !overlap(R, T, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv);
+    return !overlap(R, T, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv, test);
   }
 
   void leafTesting(int b1, int b2) const override
@@ -36,6 +36,7 @@ public:
 
   fcl::Matrix3<S> R;
   fcl::Vector3<S> T;
+  OverlapTest test = OverlapTest::kTwoSided;
 };
 
 /// Sets up node for model1 at tf1 against model2 at tf2; false unless both are triangle meshes.

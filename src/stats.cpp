@@ -58,6 +58,19 @@ QueryStats collideWithStats(const fcl::BVHModel<BV>& model1, const fcl::Transfor
   }
 }
 
+template <typename S>
+QueryStats collideWithStats(const fcl::BVHModel<RS<S>>& model1, const fcl::Transform3<S>& tf1,
+                            const fcl::BVHModel<RS<S>>& model2, const fcl::Transform3<S>& tf2,
+                            const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result,
+                            OverlapTest test)
+{
+  MeshCollisionTraversalNodeRS<S> node;
+  if (!initialize(node, model1, tf1, model2, tf2, request, result))
+    throw std::invalid_argument("fcl_rs::collideWithStats: both models must be triangle meshes");
+  node.test = test;
+  return run(node);
+}
+
 #define FCL_RS_INSTANTIATE_STATS(BV)                                                                          \
   template QueryStats collideWithStats<BV>(const fcl::BVHModel<BV>&, const fcl::Transform3<BV::S>&,           \
                                            const fcl::BVHModel<BV>&, const fcl::Transform3<BV::S>&,           \
@@ -78,5 +91,12 @@ template <typename S> using KDOP18 = fcl::KDOP<S, 18>;
 template <typename S> using KDOP24 = fcl::KDOP<S, 24>;
 FCL_RS_INSTANTIATE_STATS_ALL(float)
 FCL_RS_INSTANTIATE_STATS_ALL(double)
+
+#define FCL_RS_INSTANTIATE_RS_STATS(S)                                                                           \
+  template QueryStats collideWithStats<S>(const fcl::BVHModel<RS<S>>&, const fcl::Transform3<S>&,               \
+                                          const fcl::BVHModel<RS<S>>&, const fcl::Transform3<S>&,               \
+                                          const fcl::CollisionRequest<S>&, fcl::CollisionResult<S>&, OverlapTest);
+FCL_RS_INSTANTIATE_RS_STATS(float)
+FCL_RS_INSTANTIATE_RS_STATS(double)
 
 }  // namespace fcl_rs
