@@ -1,4 +1,8 @@
 // Compile-time checks: RS<S> has every member FCL's BVHModel, fitter, splitter and traversal templates use.
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
 #include <type_traits>
 
 #include <fcl/geometry/bvh/BVH_model.h>
@@ -79,6 +83,42 @@ TEST(Interface, VersionComesFromPackageXml)
 {
   EXPECT_STRNE(FCL_RS_VERSION, "");
   EXPECT_GE(FCL_RS_VERSION_MAJOR * 10000 + FCL_RS_VERSION_MINOR * 100 + FCL_RS_VERSION_PATCH, 1);
+}
+
+std::string readSource(const std::string& relative)
+{
+  std::ifstream in(std::string(FCL_RS_SOURCE_DIR) + "/" + relative);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(Docs, ReadmeDirectionTableIsTheCodesTable)
+{
+  const std::string readme = readSource("README.md");
+  const std::regex row(R"(\|\s*(\d)\s*\|\s*(u[0-2](?:[+-]u[0-2])?)\s*\|)");
+  int rows = 0;
+  for (auto it = std::sregex_iterator(readme.begin(), readme.end(), row); it != std::sregex_iterator(); ++it, ++rows)
+  {
+    const int k = std::stoi((*it)[1]);
+    ASSERT_LT(k, fcl_rs::kNumSlabs);
+    EXPECT_EQ((*it)[2].str(), fcl_rs::kSlabDirections[std::size_t(k)].name) << "README row " << k;
+  }
+  EXPECT_EQ(rows, fcl_rs::kNumSlabs);
+}
+
+TEST(Docs, ReadmeSnippetIsTheCompiledExample)
+{
+  const std::string example = readSource("examples/quickstart.cpp");
+  const std::string marker = "  // [quickstart]\n";
+  const auto begin = example.find(marker), end = example.find("  // [quickstart]", begin + marker.size());
+  ASSERT_NE(begin, std::string::npos);
+  ASSERT_NE(end, std::string::npos);
+  // The README shows the example's lines without their two-space function indent.
+  std::istringstream lines(example.substr(begin + marker.size(), end - begin - marker.size()));
+  std::string line, snippet;
+  while (std::getline(lines, line)) snippet += (line.rfind("  ", 0) == 0 ? line.substr(2) : line) + "\n";
+  EXPECT_NE(readSource("README.md").find(snippet), std::string::npos) << "README.md must show:\n" << snippet;
 }
 
 }  // namespace

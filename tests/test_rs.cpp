@@ -183,7 +183,16 @@ TYPED_TEST(RSTest, OverlapIsSymmetricAndConservative)
     const fcl::Vector3<S> shared = a[std::size_t(trial) % a.size()];
     b.push_back(tf.inverse(Eigen::Isometry) * shared);
     const RS<S> touching = fitPoints<S>(b.data(), int(b.size()));
-    EXPECT_TRUE(overlap(R, T, ra, touching)) << "trial " << trial;
+    for (auto test : {OverlapTest::kTwoSided, OverlapTest::kOneSided, OverlapTest::kBoxed})
+      EXPECT_TRUE(overlap(R, T, ra, touching, test)) << "trial " << trial << " test " << int(test);
+    // The boxed variant is symmetric too; every variant is implied by the tightest one.
+    EXPECT_EQ(overlap(R, T, ra, rb, OverlapTest::kBoxed),
+              overlap<S>(R.transpose(), -(R.transpose() * T), rb, ra, OverlapTest::kBoxed)) << "trial " << trial;
+    if (ab)
+    {
+      EXPECT_TRUE(overlap(R, T, ra, rb, OverlapTest::kOneSided)) << "trial " << trial;
+      EXPECT_TRUE(overlap(R, T, ra, rb, OverlapTest::kBoxed)) << "trial " << trial;
+    }
   }
   EXPECT_GT(overlapping, 100);
   EXPECT_GT(separated, 100);
