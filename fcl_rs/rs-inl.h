@@ -199,8 +199,29 @@ std::array<fcl::Vector3<S>, 32> RS<S>::corners() const
 template <typename S>
 S RS<S>::support(const fcl::Vector3<S>& dir) const
 {
-  const auto v = cornerVertices(detail::octantOf(dir));
-  return std::max(std::max(dir.dot(v[0]), dir.dot(v[1])), std::max(dir.dot(v[2]), dir.dot(v[3])));
+  // The maximum is at one of the 4 vertices of the corner in dir's octant. Reflect that corner to
+  // (+,+,+) (so e = |dir|) and write the vertices of all four configurations at once: with
+  // a, b, c = how far the chamfer triple point P passes the principal planes (at most one is
+  // positive), the vertices are P - a(1,-1,1) - (b+c)(-1,1,1), onA - 2a e_z, onA - 2a e_y,
+  // onB - 2b e_z, onB - 2b e_x, onC - 2c e_y, onC - 2c e_x (repeats allowed). No branches, which
+  // matters in a traversal where every test meets a different configuration.
+  const S ex = std::abs(dir[0]), ey = std::abs(dir[1]), ez = std::abs(dir[2]);
+  const bool nx = dir[0] < 0, ny = dir[1] < 0, nz = dir[2] < 0;
+  const S X = nx ? -lo[0] : hi[0], Y = ny ? -lo[1] : hi[1], Z = nz ? -lo[2] : hi[2];
+  auto chamfer = [this](bool ni, bool nj, int plus, int minus) {
+    const int k = ni == nj ? plus : minus;
+    return S(M_SQRT2) * (ni ? -lo[k] : hi[k]);
+  };
+  const S Cxy = chamfer(nx, ny, diagonalIndex(0, 1, +1), diagonalIndex(0, 1, -1));
+  const S Cxz = chamfer(nx, nz, diagonalIndex(0, 2, +1), diagonalIndex(0, 2, -1));
+  const S Cyz = chamfer(ny, nz, diagonalIndex(1, 2, +1), diagonalIndex(1, 2, -1));
+  const S Px = (Cxy + Cxz - Cyz) / 2, Py = (Cxy + Cyz - Cxz) / 2, Pz = (Cxz + Cyz - Cxy) / 2;
+  const S a = std::max(Px - X, S(0)), b = std::max(Py - Y, S(0)), c = std::max(Pz - Z, S(0));
+  const S at_p = ex * Px + ey * Py + ez * Pz - a * (ex - ey + ez) - (b + c) * (ey + ez - ex);
+  const S at_a = X * (ex - ey - ez) + Cxy * ey + Cxz * ez - 2 * a * std::min(ey, ez);
+  const S at_b = Y * (ey - ex - ez) + Cxy * ex + Cyz * ez - 2 * b * std::min(ex, ez);
+  const S at_c = Z * (ez - ex - ey) + Cxz * ex + Cyz * ey - 2 * c * std::min(ex, ey);
+  return std::max(std::max(at_p, at_a), std::max(at_b, at_c));
 }
 
 template <typename S>
@@ -301,91 +322,73 @@ S RS<S>::volume() const
 
 namespace detail {
 
-/// Largest absolute principal-box value: every point of the volume, corners included, has frame
-/// coordinates within it, so it scales the rounding error of anything computed from the volume.
+/// The principal box of a volume: centre and half extents in its frame.
 template <typename S>
-S boxMagnitude(const RS<S>& b)
+struct Box
 {
-  return std::max(b.lo.template head<3>().cwiseAbs().maxCoeff(), b.hi.template head<3>().cwiseAbs().maxCoeff());
-}
+  explicit Box(const RS<S>& b)
+    : c((b.lo.template head<3>() + b.hi.template head<3>()) / 2), h((b.hi.template head<3>() - b.lo.template head<3>()) / 2)
+  {
+  }
+  fcl::Vector3<S> c, h;
+};
 
-/// b2 expressed in b1's frame: y1 = M y2 + t, with the rounding tolerance of tests made there.
+/// b2 expressed in b1's frame (y1 = M y2 + t), both principal boxes, and the rounding tolerance of
+/// tests made there.
 template <typename S>
 struct RelativeFrame
 {
   fcl::Matrix3<S> M;
   fcl::Vector3<S> t;
+  Box<S> box1, box2;
   S tol;
 
   RelativeFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
+    : box1(b1), box2(b2)
   {
     const fcl::Vector3<S> o2 = R * b2.origin;
     M.noalias() = b1.axis.transpose() * (R * b2.axis);
     t.noalias() = b1.axis.transpose() * (o2 + T - b1.origin);
     // t loses a few ulps of the magnitudes it is computed from; corners and projections a few ulps
-    // of the volumes' extents (diagonal values are at most sqrt(2) times the box values).
+    // of the volumes' extents (every point of a volume lies within its box).
     tol = 32 * eps<S>() *
           (o2.template lpNorm<1>() + T.template lpNorm<1>() + b1.origin.template lpNorm<1>() +
-           3 * (boxMagnitude(b1) + boxMagnitude(b2)));
+           3 * (box1.c.cwiseAbs() + box1.h + box2.c.cwiseAbs() + box2.h).maxCoeff());
   }
-};
-
-/// Support function of one volume with each octant's corner computed at most once per test.
-template <typename S>
-class SupportCache
-{
-public:
-  explicit SupportCache(const RS<S>& bv) : bv_(bv) {}
-
-  S operator()(const fcl::Vector3<S>& dir)
-  {
-    const int o = octantOf(dir);
-    if (!(ready_ & (1u << o)))
-    {
-      bv_.cornerVertices(o, corners_[o]);
-      ready_ |= 1u << o;
-    }
-    const fcl::Vector3<S>* v = corners_[o];
-    return std::max(std::max(dir.dot(v[0]), dir.dot(v[1])), std::max(dir.dot(v[2]), dir.dot(v[3])));
-  }
-
-private:
-  const RS<S>& bv_;
-  unsigned ready_ = 0;
-  fcl::Vector3<S> corners_[8][4];
 };
 
 /// Whether the principal boxes (which contain the volumes) are apart along one of their 6 face
-/// axes: a cheap conservative filter that rejects most separated pairs before any corner is built.
+/// axes: a cheap conservative filter that rejects most separated pairs before any support query.
 template <typename S>
-bool boxesSeparated(const RelativeFrame<S>& f, const RS<S>& b1, const RS<S>& b2)
+bool boxesSeparated(const RelativeFrame<S>& f)
 {
-  const fcl::Vector3<S> c1 = (b1.lo.template head<3>() + b1.hi.template head<3>()) / 2;
-  const fcl::Vector3<S> h1 = (b1.hi.template head<3>() - b1.lo.template head<3>()) / 2;
-  const fcl::Vector3<S> c2 = (b2.lo.template head<3>() + b2.hi.template head<3>()) / 2;
-  const fcl::Vector3<S> h2 = (b2.hi.template head<3>() - b2.lo.template head<3>()) / 2;
   const fcl::Matrix3<S> A = f.M.cwiseAbs();
-  if (((f.M * c2 + f.t - c1).cwiseAbs() - h1 - A * h2).maxCoeff() > f.tol) return true;
-  return ((f.M.transpose() * (c1 - f.t) - c2).cwiseAbs() - h2 - A.transpose() * h1).maxCoeff() > f.tol;
+  if (((f.M * f.box2.c + f.t - f.box1.c).cwiseAbs() - f.box1.h - A * f.box2.h).maxCoeff() > f.tol) return true;
+  return ((f.M.transpose() * (f.box1.c - f.t) - f.box2.c).cwiseAbs() - f.box2.h - A.transpose() * f.box1.h)
+             .maxCoeff() > f.tol;
+}
+
+/// Gap between interval [lo, hi] and a volume projected on direction e (its frame) plus shift;
+/// positive means separated. The volume's box interval comes first: an exact support is computed
+/// only on a side where the box sticks out, since only there can the polytope be apart.
+template <typename S>
+S intervalGap(S lo, S hi, const RS<S>& b, const Box<S>& box, const fcl::Vector3<S>& e, S shift)
+{
+  const S mid = e.dot(box.c) + shift, radius = e.cwiseAbs().dot(box.h);
+  const S lowest = mid - radius > hi || mid + radius <= hi ? mid - radius : shift - b.support(-e);
+  const S highest = mid + radius < lo || mid - radius >= lo ? mid + radius : shift + b.support(e);
+  return std::max(lowest - hi, lo - highest);
 }
 
 /// Gap between b1 and b2 along slab k of b1 (k < 9) or of b2 (k >= 9); positive means separated.
 template <typename S>
-S slabGap(const RelativeFrame<S>& f, const RS<S>& b1, const RS<S>& b2, SupportCache<S>& h1, SupportCache<S>& h2,
-          int k)
+S slabGap(const RelativeFrame<S>& f, const RS<S>& b1, const RS<S>& b2, int k)
 {
-  if (k < kNumSlabs)
-  {
-    const fcl::Vector3<S> e = slabOfRows(f.M, k);  // b1's direction in b2's frame
-    const S shift = projectOnSlab(f.t, k);
-    const S max2 = h2(e) + shift, min2 = -h2(-e) + shift;
-    return std::max(min2 - b1.hi[k], b1.lo[k] - max2);
-  }
-  k -= kNumSlabs;
-  const fcl::Vector3<S> e = slabOfColumns(f.M, k);  // b2's direction in b1's frame
-  const S shift = e.dot(f.t);
-  const S max1 = h1(e) - shift, min1 = -h1(-e) - shift;
-  return std::max(min1 - b2.hi[k], b2.lo[k] - max1);
+  if (k < kNumSlabs)  // b1's direction, expressed in b2's frame
+    return intervalGap(b1.lo[k], b1.hi[k], b2, f.box2, slabOfRows(f.M, k), projectOnSlab(f.t, k));
+  k -= kNumSlabs;     // b2's direction, expressed in b1's frame
+  const fcl::Vector3<S> e = slabOfColumns(f.M, k);
+  return intervalGap(b2.lo[k], b2.hi[k], b1, f.box1, e, -e.dot(f.t));
 }
 
 /// Slab order for early exit: the diagonals first (the box filter has already tried the principal
@@ -399,30 +402,25 @@ bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1
 {
   if (b1.empty() || b2.empty()) return false;
   const detail::RelativeFrame<S> f(R, T, b1, b2);
-  if (detail::boxesSeparated(f, b1, b2)) return false;
+  if (detail::boxesSeparated(f)) return false;
   if (test == OverlapTest::kBoxed)
   {
-    // Each volume's diagonal slabs against the other's principal box: no corner is built.
-    const fcl::Vector3<S> c1 = (b1.lo.template head<3>() + b1.hi.template head<3>()) / 2;
-    const fcl::Vector3<S> h1 = (b1.hi.template head<3>() - b1.lo.template head<3>()) / 2;
-    const fcl::Vector3<S> c2 = (b2.lo.template head<3>() + b2.hi.template head<3>()) / 2;
-    const fcl::Vector3<S> h2 = (b2.hi.template head<3>() - b2.lo.template head<3>()) / 2;
-    const fcl::Vector3<S> c2_in_1 = f.M * c2 + f.t, c1_in_2 = f.M.transpose() * (c1 - f.t);
+    // Each volume's diagonal slabs against the other's principal box: no support query.
+    const fcl::Vector3<S> c2_in_1 = f.M * f.box2.c + f.t, c1_in_2 = f.M.transpose() * (f.box1.c - f.t);
     for (int k = 3; k < kNumSlabs; ++k)
     {
-      const S c = projectOnSlab(c2_in_1, k), r = detail::slabOfRows(f.M, k).cwiseAbs().dot(h2);
+      const S c = projectOnSlab(c2_in_1, k), r = detail::slabOfRows(f.M, k).cwiseAbs().dot(f.box2.h);
       if (c - r > b1.hi[k] + f.tol || c + r < b1.lo[k] - f.tol) return false;
-      const S cc = projectOnSlab(c1_in_2, k), rr = detail::slabOfColumns(f.M, k).cwiseAbs().dot(h1);
+      const S cc = projectOnSlab(c1_in_2, k), rr = detail::slabOfColumns(f.M, k).cwiseAbs().dot(f.box1.h);
       if (cc - rr > b2.hi[k] + f.tol || cc + rr < b2.lo[k] - f.tol) return false;
     }
     return true;
   }
-  detail::SupportCache<S> h1(b1), h2(b2);
   for (int k : detail::kSlabTestOrder)
   {
     // One-sided: only b2's polytope on b1's directions (k < 9), as in the paper.
     if (test == OverlapTest::kOneSided && k >= kNumSlabs) continue;
-    if (detail::slabGap(f, b1, b2, h1, h2, k) > f.tol) return false;
+    if (detail::slabGap(f, b1, b2, k) > f.tol) return false;
   }
   return true;
 }
@@ -433,12 +431,11 @@ S distance(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, 
 {
   if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
   const detail::RelativeFrame<S> f(R, T, b1, b2);
-  detail::SupportCache<S> h1(b1), h2(b2);
   S best = -std::numeric_limits<S>::max();
   int best_k = 0;
   for (int k = 0; k < 2 * kNumSlabs; ++k)
   {
-    const S gap = detail::slabGap(f, b1, b2, h1, h2, k);
+    const S gap = detail::slabGap(f, b1, b2, k);
     if (gap > best) { best = gap; best_k = k; }
   }
   if (P || Q)
