@@ -1,0 +1,1119 @@
+// fcl_rs::collide and collideWithStats: RS trees against a brute-force oracle, FCL's OBB tree and fcl::collide.
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <type_traits>
+#include <vector>
+
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/cone.h>
+#include <fcl/geometry/shape/convex.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/ellipsoid.h>
+#include <fcl/geometry/shape/halfspace.h>
+#include <fcl/geometry/shape/plane.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/geometry/shape/triangle_p.h>
+#include <fcl/math/bv/kDOP.h>
+#include <fcl/math/bv/kIOS.h>
+#include <fcl/math/bv/OBBRSS.h>
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/collision_object.h>
+#include <fcl/narrowphase/detail/gjk_solver_indep.h>
+#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+#include <gtest/gtest.h>
+
+#include "fcl_rs/fcl_rs.h"
+#include "test_util.h"
+
+namespace {
+
+using fcl_rs::TriangleMesh;
+using fcl_rs::test::TrianglePairs;
+
+// Exhaustive: large enough that no query stops early.
+constexpr std::size_t kAllContacts = 1000000;
+
+template <typename S>
+std::string scalarName()
+{
+  return std::is_same<S, float>::value ? "float" : "double";
+}
+
+template <typename S>
+std::string poseString(const fcl::Transform3<S>& tf)
+{
+  std::ostringstream o;
+  o << std::setprecision(std::numeric_limits<S>::max_digits10) << "R=[";
+  for (int i = 0; i < 3; ++i)
+    o << tf.linear()(i, 0) << ' ' << tf.linear()(i, 1) << ' ' << tf.linear()(i, 2) << (i < 2 ? "; " : "]");
+  o << " t=[" << tf.translation().x() << ' ' << tf.translation().y() << ' ' << tf.translation().z() << ']';
+  return o.str();
+}
+
+/// Up to `limit` elements of a \ b, for failure messages.
+template <typename T>
+std::string onlyIn(const std::set<T>& a, const std::set<T>& b, std::size_t limit = 8)
+{
+  std::ostringstream o;
+  std::size_t n = 0, shown = 0;
+  for (const auto& x : a)
+    if (!b.count(x))
+    {
+      if (shown++ < limit)
+      {
+        if constexpr (std::is_same<T, std::pair<int, int>>::value)
+          o << " (" << x.first << ',' << x.second << ')';
+        else
+          o << ' ' << x;
+      }
+      ++n;
+    }
+  return std::to_string(n) + (n ? ":" + o.str() + (n > limit ? " ..." : "") : "");
+}
+
+/// Triangles of zero area up to rounding. FCL's leaf tests are undefined on them: the contact-generating
+/// triangle-triangle test (Intersect::intersect_Triangle with contacts) reads a normal that buildTrianglePlane
+/// never wrote, and sphereTriangleIntersect normalizes a zero normal and then reports the triangle touching any
+/// sphere at any distance. Which of them a tree reports then depends on its pruning, not on geometry.
+template <typename S>
+std::vector<bool> flatTriangles(const TriangleMesh<S>& m)
+{
+  std::vector<bool> flat;
+  for (const auto& t : m.triangles)
+  {
+    const fcl::Vector3<S> e1 = m.vertices[t[1]] - m.vertices[t[0]], e2 = m.vertices[t[2]] - m.vertices[t[0]];
+    flat.push_back(e1.cross(e2).norm() <= 8 * std::numeric_limits<S>::epsilon() * e1.norm() * e2.norm());
+  }
+  return flat;
+}
+
+/// A mesh with both trees built once, plus the ball (bounding-box centre, radius) used to place it.
+template <typename S>
+struct Mesh
+{
+  std::string name;
+  TriangleMesh<S> tri;
+  fcl::Vector3<S> center;
+  S radius = 0;
+  std::vector<bool> flat;
+  std::shared_ptr<fcl::BVHModel<fcl_rs::RS<S>>> rs;
+  std::shared_ptr<fcl::BVHModel<fcl::OBB<S>>> obb;
+};
+
+template <typename S>
+Mesh<S> prepare(const std::string& name, TriangleMesh<S> tri, S scale = 1)
+{
+  Mesh<S> m;
+  m.name = name;
+  for (auto& v : tri.vertices) v *= scale;
+  fcl::Vector3<S> lo = tri.vertices.front(), hi = lo;
+  for (const auto& v : tri.vertices)
+  {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  m.center = (lo + hi) / 2;
+  for (const auto& v : tri.vertices) m.radius = std::max(m.radius, (v - m.center).norm());
+  m.rs = fcl_rs::buildModel<fcl_rs::RS<S>>(tri);
+  m.obb = fcl_rs::buildModel<fcl::OBB<S>>(tri);
+  m.flat = flatTriangles(tri);
+  m.tri = std::move(tri);
+  return m;
+}
+
+/// Debian's assimp-testmodels are installed by the project's scripts: absence is an error, not a skip.
+template <typename S>
+std::optional<Mesh<S>> assimpMesh(const std::string& relative, S scale = 1)
+{
+  const std::string path = fcl_rs::test::assimpModel(relative);
+  if (path.empty()) return std::nullopt;
+  return prepare<S>(relative, fcl_rs::loadMesh<S>(path), scale);
+}
+
+template <typename S>
+std::optional<Mesh<S>> sharedMesh(const std::string& relative, S scale = 1)
+{
+  const std::string path = fcl_rs::test::sharedData(relative);
+  if (path.empty()) return std::nullopt;
+  return prepare<S>(relative, fcl_rs::loadMesh<S>(path), scale);
+}
+
+#define REQUIRE_ASSIMP(var, S, relative, scale)                                                                 \
+  const auto var##_opt = assimpMesh<S>(relative, scale);                                                      \
+  ASSERT_TRUE(var##_opt.has_value()) << "assimp-testmodels file " << FCL_RS_ASSIMP_MODELS_DIR << "/" << relative \
+                                     << " is missing; the project's setup scripts install assimp-testmodels";  \
+  const Mesh<S>& var = *var##_opt
+
+#define REQUIRE_SHARED(var, S, relative, scale)                                                                \
+  const auto var##_opt = sharedMesh<S>(relative, scale);                                                     \
+  if (!var##_opt) GTEST_SKIP() << "shared data file " << FCL_RS_SHARED_DATA_DIR << "/" << relative << " is missing"; \
+  const Mesh<S>& var = *var##_opt
+
+/// (R, T) exactly as FCL's oriented nodes compute them (fcl::relativeTransform), as one transform. Handing the
+/// brute force (identity, this) makes the oracle run each triangle test on the very same R and T the tree uses,
+/// so a difference can only come from pruning, not from the rounding of a differently computed tf1^-1 tf2.
+template <typename S>
+fcl::Transform3<S> fclRelative(const fcl::Transform3<S>& tf1, const fcl::Transform3<S>& tf2)
+{
+  fcl::Matrix3<S> R;
+  fcl::Vector3<S> T;
+  fcl::relativeTransform(tf1, tf2, R, T);
+  fcl::Transform3<S> rel = fcl::Transform3<S>::Identity();
+  rel.linear() = R;
+  rel.translation() = T;
+  return rel;
+}
+
+template <typename S>
+TrianglePairs bruteForce(const Mesh<S>& a, const fcl::Transform3<S>& tf1, const Mesh<S>& b,
+                         const fcl::Transform3<S>& tf2)
+{
+  return fcl_rs::test::bruteForcePairs(a.tri, fcl::Transform3<S>::Identity(), b.tri, fclRelative(tf1, tf2));
+}
+
+/// Pose pair: a anywhere within base_extent, b's centre offset from a's by a uniform vector in a cube of
+/// half-size spread * (ra + rb), both rotations uniform. spread is chosen per pair so that a third to a half collide.
+template <typename S, typename Rng>
+std::pair<fcl::Transform3<S>, fcl::Transform3<S>> nearbyPoses(Rng& rng, const Mesh<S>& a, const Mesh<S>& b, S spread,
+                                                              S base_extent)
+{
+  const fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, base_extent);
+  fcl::Transform3<S> tf2 = fcl_rs::test::randomPose<S>(rng, spread * (a.radius + b.radius));
+  const fcl::Vector3<S> offset = tf2.translation();
+  tf2.translation() = tf1 * a.center + offset - tf2.linear() * b.center;
+  return {tf1, tf2};
+}
+
+/// A contact as a comparable value (everything but the geometry pointers).
+template <typename S>
+using ContactKey = std::tuple<int, int, S, S, S, S, S, S, S>;
+
+template <typename S>
+std::vector<ContactKey<S>> contactKeys(const fcl::CollisionResult<S>& r)
+{
+  std::vector<ContactKey<S>> keys;
+  for (std::size_t i = 0; i < r.numContacts(); ++i)
+  {
+    const auto& c = r.getContact(i);
+    keys.emplace_back(c.b1, c.b2, c.pos.x(), c.pos.y(), c.pos.z(), c.normal.x(), c.normal.y(), c.normal.z(),
+                      c.penetration_depth);
+  }
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+template <typename S>
+fcl::CollisionRequest<S> request(std::size_t num_max_contacts, bool enable_contact,
+                                 fcl::GJKSolverType solver = fcl::GST_LIBCCD)
+{
+  fcl::CollisionRequest<S> req(num_max_contacts, enable_contact);
+  req.gjk_solver_type = solver;
+  return req;
+}
+
+struct PairTally
+{
+  int poses = 0;
+  int colliding = 0;
+  std::size_t pairs = 0;
+  int obb_disagreements = 0;
+  int failing_poses = 0;
+  std::size_t flat_contacts = 0;  // contacts on zero-area triangles, left out of the RS-vs-OBB contact comparison
+};
+
+void logTally(const std::string& what, const PairTally& t)
+{
+  std::cout << "[collide] " << what << ": " << t.poses << " poses, " << t.colliding << " colliding, " << t.pairs
+            << " triangle pairs, " << t.obb_disagreements << " OBB-vs-brute-force disagreements"
+            << (t.flat_contacts ? ", " + std::to_string(t.flat_contacts) + " contacts on zero-area triangles not compared"
+                                : std::string())
+            << "\n";
+}
+
+// A runaway failure would print thousands of poses; a handful is enough to reproduce.
+constexpr int kMaxFailingPoses = 5;
+
+/// Everything checked on one mesh-mesh pose against the brute-force pair set:
+///  exhaustive RS == brute force; first-contact verdict; with contacts, RS pairs within brute force and RS
+///  contacts identical to FCL's OBB tree's (when the OBB tree itself finds every pair), both leaf tests being the
+///  same code on the same (R, T). Returns false on failure.
+template <typename S>
+bool checkMeshPose(const Mesh<S>& a, const fcl::Transform3<S>& tf1, const Mesh<S>& b, const fcl::Transform3<S>& tf2,
+                   PairTally& tally, const std::string& kind = "")
+{
+  SCOPED_TRACE(a.name + " vs " + b.name + " (" + scalarName<S>() + ")" + kind + " pose #" + std::to_string(tally.poses) +
+               "\n  tf1 " + poseString(tf1) + "\n  tf2 " + poseString(tf2));
+  bool ok = true;
+  const TrianglePairs brute = bruteForce(a, tf1, b, tf2);
+  ++tally.poses;
+  tally.colliding += !brute.empty();
+  tally.pairs += brute.size();
+
+  {  // exhaustive, no contact geometry: the reported triangle pairs are exactly the intersecting ones
+    fcl::CollisionResult<S> res;
+    const std::size_t n = fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, request<S>(kAllContacts, false), res);
+    const TrianglePairs rs = fcl_rs::test::contactPairs(res);
+    ok &= n == res.numContacts() && rs.size() == n && rs == brute && res.isCollision() == !brute.empty();
+    EXPECT_EQ(n, res.numContacts());
+    EXPECT_EQ(rs.size(), n) << "a triangle pair was reported twice";
+    EXPECT_TRUE(rs == brute) << "RS missed " << onlyIn(brute, rs) << "; RS extra " << onlyIn(rs, brute);
+  }
+  {  // first contact: verdict and a genuine pair
+    fcl::CollisionResult<S> res;
+    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, request<S>(1, false), res);
+    const bool verdict_ok = res.isCollision() == !brute.empty() && res.numContacts() == (brute.empty() ? 0u : 1u);
+    const bool pair_ok = res.numContacts() == 0 || brute.count({res.getContact(0).b1, res.getContact(0).b2}) == 1;
+    ok &= verdict_ok && pair_ok;
+    EXPECT_TRUE(verdict_ok) << "first-contact request: RS reports " << res.numContacts() << " contacts, brute force "
+                            << brute.size() << " pairs";
+    EXPECT_TRUE(pair_ok) << "first contact is not an intersecting pair";
+  }
+  {  // contact geometry: RS pairs within brute force, contacts identical to the OBB tree's
+    fcl::CollisionResult<S> rs_res, obb_res, obb_plain;
+    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, request<S>(kAllContacts, true), rs_res);
+    fcl::collide(a.obb.get(), tf1, b.obb.get(), tf2, request<S>(kAllContacts, true), obb_res);
+    fcl::collide(a.obb.get(), tf1, b.obb.get(), tf2, request<S>(kAllContacts, false), obb_plain);
+    const TrianglePairs rs_pairs = fcl_rs::test::contactPairs(rs_res);
+    const bool subset = std::includes(brute.begin(), brute.end(), rs_pairs.begin(), rs_pairs.end());
+    ok &= subset;
+    EXPECT_TRUE(subset) << "enable_contact: RS pairs not found by brute force: " << onlyIn(rs_pairs, brute);
+    if (fcl_rs::test::contactPairs(obb_plain) == brute)
+    {
+      // Contacts on zero-area triangles are undefined in FCL (see flatTriangles): compare the rest exactly.
+      const auto defined = [&](const fcl::CollisionResult<S>& r) {
+        std::vector<ContactKey<S>> keys;
+        for (const auto& k : contactKeys(r))
+          if (!a.flat[std::get<0>(k)] && !b.flat[std::get<1>(k)]) keys.push_back(k);
+        return keys;
+      };
+      const auto rs_keys = defined(rs_res), obb_keys = defined(obb_res);
+      tally.flat_contacts += rs_res.numContacts() - rs_keys.size();
+      TrianglePairs rs_defined, obb_defined;
+      for (const auto& k : rs_keys) rs_defined.emplace(std::get<0>(k), std::get<1>(k));
+      for (const auto& k : obb_keys) obb_defined.emplace(std::get<0>(k), std::get<1>(k));
+      const bool same = rs_keys == obb_keys;
+      ok &= same;
+      EXPECT_EQ(rs_keys.size(), obb_keys.size()) << "enable_contact: RS and OBB contact counts differ";
+      EXPECT_TRUE(same) << "enable_contact: RS and OBB contacts differ; RS-only pairs "
+                        << onlyIn(rs_defined, obb_defined) << ", OBB-only pairs " << onlyIn(obb_defined, rs_defined);
+    }
+    else
+    {
+      // FCL's OBB tree pruned a real contact (or found a false one): brute force already judged RS above.
+      ++tally.obb_disagreements;
+      const TrianglePairs obb = fcl_rs::test::contactPairs(obb_plain);
+      std::cout << "[collide] OBB disagrees with brute force: " << a.name << " vs " << b.name << " ("
+                << scalarName<S>() << ")" << kind << " pose #" << tally.poses - 1 << ": OBB missed " << onlyIn(brute, obb)
+                << ", OBB extra " << onlyIn(obb, brute) << "\n";
+    }
+  }
+  if (!ok) ++tally.failing_poses;
+  return ok;
+}
+
+/// Bisection on s in [lo, hi] for the boundary of a predicate true at lo and false at hi; returns the last
+/// s found true and the first found false (adjacent floating-point values once the interval cannot shrink).
+template <typename S, typename Pred>
+std::pair<S, S> bisectBoundary(S lo, S hi, const Pred& touching)
+{
+  for (int i = 0; i < 200; ++i)
+  {
+    const S mid = lo + (hi - lo) / 2;
+    if (!(mid > lo && mid < hi)) break;
+    (touching(mid) ? lo : hi) = mid;
+  }
+  return {lo, hi};
+}
+
+/// Random poses rarely produce a contact shallower than ~1e-3 of the meshes' size, so they cannot tell
+/// a conservative bound from one that is slightly too tight. A grazing pose can: b is slid along a random direction
+/// to where the meshes only just touch (bisection on the OBB tree's first-contact verdict, merely to choose the
+/// pose); the last touching and the first free pose are then checked against brute force like any other.
+template <typename S, typename Rng>
+std::vector<fcl::Transform3<S>> grazingPoses(Rng& rng, const Mesh<S>& a, const fcl::Transform3<S>& tf1,
+                                             const Mesh<S>& b, const fcl::Transform3<S>& tf2)
+{
+  const fcl::Vector3<S> dir = fcl_rs::test::randomRotation<S>(rng).col(0);
+  const auto at = [&](S s) {
+    fcl::Transform3<S> tf = tf2;
+    tf.translation() += s * dir;
+    return tf;
+  };
+  const auto touching = [&](S s) {
+    fcl::CollisionResult<S> r;
+    fcl::collide(a.obb.get(), tf1, b.obb.get(), at(s), request<S>(1, false), r);
+    return r.isCollision();
+  };
+  // Centres are at most ~2 (ra + rb) apart (see nearbyPoses), so 4 (ra + rb) along any direction separates them.
+  const S far = 4 * (a.radius + b.radius);
+  if (!touching(0) || touching(far)) return {};
+  const auto [in, out] = bisectBoundary<S>(0, far, touching);
+  return {at(in), at(out)};
+}
+
+/// n seeded nearby poses of a pair (asserting the pose mix is meaningful: both colliding and free poses), then
+/// grazing poses derived from the colliding ones.
+template <typename S>
+void checkMeshPair(const Mesh<S>& a, const Mesh<S>& b, S spread, S base_extent, int n = 200, int n_grazing = 40)
+{
+  const std::string what = "collide/mesh-mesh/" + a.name + "/" + b.name + "/" + scalarName<S>();
+  auto rng = fcl_rs::test::seededRng(what);
+  PairTally tally, grazing;
+  for (int i = 0; i < n; ++i)
+  {
+    const auto [tf1, tf2] = nearbyPoses(rng, a, b, spread, base_extent);
+    if (!checkMeshPose(a, tf1, b, tf2, tally) && tally.failing_poses >= kMaxFailingPoses)
+    {
+      ADD_FAILURE() << "stopping " << what << " after " << kMaxFailingPoses << " failing poses";
+      break;
+    }
+  }
+  logTally(what, tally);
+  for (int i = 0; i < 10 * n_grazing && grazing.poses < 2 * n_grazing && grazing.failing_poses < kMaxFailingPoses; ++i)
+  {
+    const auto [tf1, tf2] = nearbyPoses(rng, a, b, spread, base_extent);
+    for (const auto& tf : grazingPoses(rng, a, tf1, b, tf2)) checkMeshPose(a, tf1, b, tf, grazing, " grazing");
+  }
+  logTally(what + " (grazing)", grazing);
+  if (grazing.failing_poses >= kMaxFailingPoses)
+    ADD_FAILURE() << "stopped grazing poses of " << what << " after " << kMaxFailingPoses << " failing poses";
+  else
+    EXPECT_GE(grazing.poses, 2 * n_grazing) << what << ": too few grazing poses found";
+  // Not a library property: guards the test itself against a pose distribution that never (or always) collides.
+  EXPECT_GE(tally.colliding, tally.poses / 5) << what << ": too few colliding poses to be a meaningful test";
+  EXPECT_LE(tally.colliding, tally.poses * 4 / 5) << what << ": too few free poses to be a meaningful test";
+}
+
+template <typename S>
+class CollideMeshMesh : public ::testing::Test {};
+TYPED_TEST_SUITE(CollideMeshMesh, fcl_rs::test::Scalars);
+
+TYPED_TEST(CollideMeshMesh, GeneratedShapesMatchBruteForce)
+{
+  using S = TypeParam;
+  const auto sphere = prepare<S>("sphere", fcl_rs::makeSphere<S>(1));
+  const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.3)));
+  const auto ellipsoid = prepare<S>("ellipsoid", fcl_rs::makeEllipsoid<S>(S(1.2), S(0.6), S(0.3)));
+  const auto box = prepare<S>("box", fcl_rs::makeBox<S>(1, S(0.5), S(0.25)));
+  const auto cube = prepare<S>("cube", fcl_rs::makeBox<S>(1, 1, 1));
+  const auto diamond = prepare<S>("diamond", fcl_rs::makeDiamond<S>(S(0.5), 1));
+  const auto ring = prepare<S>("small torus", fcl_rs::makeTorus<S>(S(0.8), S(0.2), 16, 8));
+  checkMeshPair(sphere, torus, S(0.9), S(2));
+  checkMeshPair(ellipsoid, box, S(0.6), S(2));
+  checkMeshPair(diamond, ring, S(0.7), S(2));
+  checkMeshPair(cube, box, S(0.8), S(2));
+  checkMeshPair(torus, ring, S(0.75), S(2));
+}
+
+TYPED_TEST(CollideMeshMesh, AssimpTestModelsMatchBruteForce)
+{
+  using S = TypeParam;
+  // Spider_binary.stl has 56 zero-area triangles; cube.ply sits off-centre in [0,1]^3.
+  REQUIRE_ASSIMP(spider, S, "STL/Spider_binary.stl", S(1));
+  REQUIRE_ASSIMP(cube, S, "PLY/cube.ply", S(2));
+  checkMeshPair(spider, cube, S(0.6), S(5));
+  // spider.obj (the same spider at radius 142) scaled to Wuson's size.
+  REQUIRE_ASSIMP(spider_obj, S, "OBJ/spider.obj", S(0.02));
+  REQUIRE_ASSIMP(wuson, S, "OFF/Wuson.off", S(1));
+  checkMeshPair(spider_obj, wuson, S(0.5), S(5));
+}
+
+TYPED_TEST(CollideMeshMesh, FclRobotMeshMatchesBruteForce)
+{
+  using S = TypeParam;
+  REQUIRE_SHARED(rob, S, "models/fcl_rob.obj", S(1));
+  checkMeshPair(rob, rob, S(0.6), S(2000));
+}
+
+TYPED_TEST(CollideMeshMesh, DragonHandMatchBruteForce)
+{
+  using S = TypeParam;
+  REQUIRE_SHARED(dragon, S, "models/dragon_lowres.obj", S(1));
+  REQUIRE_SHARED(hand, S, "models/hand_lowres.obj", S(1));
+  checkMeshPair(dragon, hand, S(0.6), S(2));
+}
+
+TYPED_TEST(CollideMeshMesh, PandaLinksMatchBruteForce)
+{
+  using S = TypeParam;
+  REQUIRE_SHARED(link1, S, "robots/panda/meshes/collision/link1.stl", S(1));
+  REQUIRE_SHARED(hand, S, "robots/panda/meshes/collision/hand.stl", S(1));
+  checkMeshPair(link1, hand, S(0.6), S(1));
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Larger meshes: FCL's OBB tree is the reference; brute force decides where the two disagree.
+
+template <typename S>
+void checkAgainstOBB(const std::string& what, const Mesh<S>& a, const Mesh<S>& b,
+                     const std::vector<std::pair<fcl::Transform3<S>, fcl::Transform3<S>>>& poses)
+{
+  PairTally tally;
+  for (const auto& [tf1, tf2] : poses)
+  {
+    SCOPED_TRACE(what + " pose #" + std::to_string(tally.poses) + "\n  tf1 " + poseString(tf1) + "\n  tf2 " +
+                 poseString(tf2));
+    ++tally.poses;
+    fcl::CollisionResult<S> rs_res, obb_res, rs_first;
+    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, request<S>(kAllContacts, false), rs_res);
+    fcl::collide(a.obb.get(), tf1, b.obb.get(), tf2, request<S>(kAllContacts, false), obb_res);
+    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, request<S>(1, false), rs_first);
+    const TrianglePairs rs = fcl_rs::test::contactPairs(rs_res), obb = fcl_rs::test::contactPairs(obb_res);
+    EXPECT_EQ(rs.size(), rs_res.numContacts()) << "a triangle pair was reported twice";
+    TrianglePairs truth = obb;
+    if (rs != obb)
+    {
+      truth = bruteForce(a, tf1, b, tf2);
+      if (obb != truth)
+      {
+        ++tally.obb_disagreements;
+        std::cout << "[collide] OBB disagrees with brute force: " << what << " pose #" << tally.poses - 1
+                  << ": OBB missed " << onlyIn(truth, obb) << ", OBB extra " << onlyIn(obb, truth) << "\n";
+      }
+    }
+    tally.colliding += !truth.empty();
+    tally.pairs += truth.size();
+    const bool ok = rs == truth && rs_first.isCollision() == !truth.empty();
+    EXPECT_TRUE(rs == truth) << "RS missed " << onlyIn(truth, rs) << "; RS extra " << onlyIn(rs, truth);
+    EXPECT_EQ(rs_first.isCollision(), !truth.empty()) << "first-contact verdict";
+    if (!ok && ++tally.failing_poses >= kMaxFailingPoses)
+    {
+      ADD_FAILURE() << "stopping " << what << " after " << kMaxFailingPoses << " failing poses";
+      break;
+    }
+  }
+  logTally(what, tally);
+  EXPECT_GE(tally.colliding, tally.poses / 5) << what << ": too few colliding poses to be a meaningful test";
+  EXPECT_LE(tally.colliding, tally.poses * 4 / 5) << what << ": too few free poses to be a meaningful test";
+}
+
+template <typename S>
+std::vector<std::pair<fcl::Transform3<S>, fcl::Transform3<S>>> nearbyPoseList(const std::string& what,
+                                                                              const Mesh<S>& a, const Mesh<S>& b,
+                                                                              S spread, S base_extent, int n)
+{
+  auto rng = fcl_rs::test::seededRng(what);
+  std::vector<std::pair<fcl::Transform3<S>, fcl::Transform3<S>>> poses;
+  for (int i = 0; i < n; ++i) poses.push_back(nearbyPoses(rng, a, b, spread, base_extent));
+  return poses;
+}
+
+TYPED_TEST(CollideMeshMesh, BunnyCowMatchesOBBTree)
+{
+  using S = TypeParam;
+  REQUIRE_SHARED(bunny, S, "models/bunny_lowres.obj", S(4));
+  REQUIRE_SHARED(cow, S, "models/cow.obj", S(1));
+  const std::string what = "collide/vs-obb/bunny-cow/" + scalarName<S>();
+  checkAgainstOBB(what, bunny, cow, nearbyPoseList(what, bunny, cow, S(0.6), S(20), 200));
+}
+
+TYPED_TEST(CollideMeshMesh, FclEnvRobMatchesOBBTree)
+{
+  using S = TypeParam;
+  REQUIRE_SHARED(env, S, "models/fcl_env.obj", S(1));
+  REQUIRE_SHARED(rob, S, "models/fcl_rob.obj", S(1));
+  // FCL's own benchmark: env fixed, rob anywhere in [-3000, 3000]^3 with a uniform rotation.
+  const std::string what = "collide/vs-obb/fcl_env-fcl_rob/" + scalarName<S>();
+  auto rng = fcl_rs::test::seededRng(what);
+  std::vector<std::pair<fcl::Transform3<S>, fcl::Transform3<S>>> poses;
+  for (int i = 0; i < 200; ++i)
+    poses.emplace_back(fcl::Transform3<S>::Identity(), fcl_rs::test::randomPose<S>(rng, S(3000)));
+  checkAgainstOBB(what, env, rob, poses);
+}
+
+TYPED_TEST(CollideMeshMesh, ZeroAreaTrianglesFarFromOriginMatchOBBTree)
+{
+  using S = TypeParam;
+  // Far from the origin (|t| up to 1e4 radii) with Spider_binary's zero-area triangles: where FCL's OBB tree is
+  // known to be fragile, so brute force arbitrates every disagreement.
+  REQUIRE_ASSIMP(spider, S, "STL/Spider_binary.stl", S(1));
+  REQUIRE_ASSIMP(wuson, S, "OFF/Wuson.off", S(2));
+  const std::string what = "collide/vs-obb/spider-wuson-far/" + scalarName<S>();
+  checkAgainstOBB(what, spider, wuson, nearbyPoseList(what, spider, wuson, S(0.5), S(5e4), 200));
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Mesh-shape, both orders, against FCL's OBB tree through fcl::collide and a per-triangle brute force.
+
+template <typename S>
+struct ShapeCase
+{
+  std::string name;
+  std::shared_ptr<fcl::CollisionGeometry<S>> shape;
+  S radius = 0;  // ball about the shape frame's origin containing the shape; 0 for planes and halfspaces
+};
+
+constexpr int kNumShapeKinds = 9;
+
+template <typename S, typename Rng>
+ShapeCase<S> randomShapeOf(int kind, Rng& rng, S r)
+{
+  std::uniform_real_distribution<double> u(0, 1);
+  const auto U = [&](double lo, double hi) { return S((lo + (hi - lo) * u(rng)) * r); };
+  switch (kind)
+  {
+    case 0:
+    {
+      const fcl::Vector3<S> side(U(0.2, 1), U(0.2, 1), U(0.2, 1));
+      return {"box", std::make_shared<fcl::Box<S>>(side), side.norm() / 2};
+    }
+    case 1:
+    {
+      const S radius = U(0.1, 0.6);
+      return {"sphere", std::make_shared<fcl::Sphere<S>>(radius), radius};
+    }
+    case 2:
+    {
+      const S radius = U(0.05, 0.3), lz = U(0.2, 1.2);
+      return {"capsule", std::make_shared<fcl::Capsule<S>>(radius, lz), radius + lz / 2};
+    }
+    case 3:
+    {
+      const S radius = U(0.05, 0.4), lz = U(0.2, 1.2);
+      return {"cylinder", std::make_shared<fcl::Cylinder<S>>(radius, lz), std::hypot(radius, lz / 2)};
+    }
+    case 4:
+    {
+      const S radius = U(0.05, 0.4), lz = U(0.2, 1.2);
+      return {"cone", std::make_shared<fcl::Cone<S>>(radius, lz), std::hypot(radius, lz / 2)};
+    }
+    case 5:
+    {
+      const fcl::Vector3<S> radii(U(0.1, 0.6), U(0.1, 0.6), U(0.1, 0.6));
+      return {"ellipsoid", std::make_shared<fcl::Ellipsoid<S>>(radii), radii.maxCoeff()};
+    }
+    case 6: return {"plane", std::make_shared<fcl::Plane<S>>(fcl::Vector3<S>(0, 0, 1), 0), 0};
+    case 7: return {"halfspace", std::make_shared<fcl::Halfspace<S>>(fcl::Vector3<S>(0, 0, 1), 0), 0};
+    default:
+    {
+      // Octahedron with random semi-axes (outward counter-clockwise faces).
+      const fcl::Vector3<S> a(U(0.1, 0.6), U(0.1, 0.6), U(0.1, 0.6));
+      auto vertices = std::make_shared<std::vector<fcl::Vector3<S>>>(std::vector<fcl::Vector3<S>>{
+          {a.x(), 0, 0}, {-a.x(), 0, 0}, {0, a.y(), 0}, {0, -a.y(), 0}, {0, 0, a.z()}, {0, 0, -a.z()}});
+      auto faces = std::make_shared<std::vector<int>>(std::vector<int>{
+          3, 0, 2, 4, 3, 2, 1, 4, 3, 1, 3, 4, 3, 3, 0, 4, 3, 2, 0, 5, 3, 1, 2, 5, 3, 3, 1, 5, 3, 0, 3, 5});
+      return {"convex", std::make_shared<fcl::Convex<S>>(vertices, 8, faces), a.maxCoeff()};
+    }
+  }
+}
+
+/// A random shape, named with its parameters (full precision) so that a failure can be replayed.
+template <typename S, typename Rng>
+ShapeCase<S> randomShape(int kind, Rng& rng, S r)
+{
+  ShapeCase<S> sc = randomShapeOf<S>(kind, rng, r);
+  std::ostringstream o;
+  o << std::setprecision(std::numeric_limits<S>::max_digits10) << sc.name << '(';
+  const auto* g = sc.shape.get();
+  switch (g->getNodeType())
+  {
+    case fcl::GEOM_BOX: o << static_cast<const fcl::Box<S>*>(g)->side.transpose(); break;
+    case fcl::GEOM_SPHERE: o << static_cast<const fcl::Sphere<S>*>(g)->radius; break;
+    case fcl::GEOM_CAPSULE:
+      o << static_cast<const fcl::Capsule<S>*>(g)->radius << ' ' << static_cast<const fcl::Capsule<S>*>(g)->lz;
+      break;
+    case fcl::GEOM_CYLINDER:
+      o << static_cast<const fcl::Cylinder<S>*>(g)->radius << ' ' << static_cast<const fcl::Cylinder<S>*>(g)->lz;
+      break;
+    case fcl::GEOM_CONE:
+      o << static_cast<const fcl::Cone<S>*>(g)->radius << ' ' << static_cast<const fcl::Cone<S>*>(g)->lz;
+      break;
+    case fcl::GEOM_ELLIPSOID: o << static_cast<const fcl::Ellipsoid<S>*>(g)->radii.transpose(); break;
+    case fcl::GEOM_CONVEX:
+      for (const auto& v : static_cast<const fcl::Convex<S>*>(g)->getVertices()) o << v.cwiseAbs().maxCoeff() << ' ';
+      break;
+    default: o << "n=(0 0 1) d=0";
+  }
+  o << ')';
+  sc.name = o.str();
+  return sc;
+}
+
+/// The triangles FCL's own leaf test (solver.shapeTriangleIntersect, as in meshShapeCollisionOrientedNodeLeafTesting)
+/// finds intersecting, over every triangle. A box test against the shape's bounding ball skips far triangles.
+template <typename Shape, typename S, typename Solver>
+std::set<int> bruteForceTriangles(const TriangleMesh<S>& m, const fcl::Transform3<S>& tf_mesh, const Shape& shape,
+                                  const fcl::Transform3<S>& tf_shape, S shape_radius, const Solver& solver)
+{
+  const fcl::Vector3<S> c = tf_shape.translation();
+  const S reach = shape_radius * S(1.01) + 1e-3 * shape_radius + 64 * std::numeric_limits<S>::epsilon() * c.norm();
+  std::set<int> hits;
+  for (std::size_t i = 0; i < m.triangles.size(); ++i)
+  {
+    const auto& t = m.triangles[i];
+    const fcl::Vector3<S> &p1 = m.vertices[t[0]], &p2 = m.vertices[t[1]], &p3 = m.vertices[t[2]];
+    if (shape_radius > 0)
+    {
+      const fcl::Vector3<S> w1 = tf_mesh * p1, w2 = tf_mesh * p2, w3 = tf_mesh * p3;
+      const fcl::Vector3<S> lo = w1.cwiseMin(w2).cwiseMin(w3), hi = w1.cwiseMax(w2).cwiseMax(w3);
+      if (((lo.array() - reach) > c.array()).any() || ((hi.array() + reach) < c.array()).any()) continue;
+    }
+    if (solver.shapeTriangleIntersect(shape, tf_shape, p1, p2, p3, tf_mesh, nullptr, nullptr, nullptr))
+      hits.insert(int(i));
+  }
+  return hits;
+}
+
+template <typename S, typename Solver>
+std::set<int> bruteForceTriangles(const TriangleMesh<S>& m, const fcl::Transform3<S>& tf_mesh,
+                                  const ShapeCase<S>& sc, const fcl::Transform3<S>& tf_shape, const Solver& solver)
+{
+  const auto* g = sc.shape.get();
+  switch (g->getNodeType())
+  {
+    case fcl::GEOM_BOX:
+      return bruteForceTriangles(m, tf_mesh, *static_cast<const fcl::Box<S>*>(g), tf_shape, sc.radius, solver);
+    case fcl::GEOM_SPHERE:
+      return bruteForceTriangles(m, tf_mesh, *static_cast<const fcl::Sphere<S>*>(g), tf_shape, sc.radius, solver);
+    case fcl::GEOM_CAPSULE:
+      return bruteForceTriangles(m, tf_mesh, *static_cast<const fcl::Capsule<S>*>(g), tf_shape, sc.radius, solver);
+    case fcl::GEOM_CYLINDER:
+      return bruteForceTriangles(m, tf_mesh, *static_cast<const fcl::Cylinder<S>*>(g), tf_shape, sc.radius, solver);
+    case fcl::GEOM_CONE:
+      return bruteForceTriangles(m, tf_mesh, *static_cast<const fcl::Cone<S>*>(g), tf_shape, sc.radius, solver);
+    case fcl::GEOM_ELLIPSOID:
+      return bruteForceTriangles(m, tf_mesh, *static_cast<const fcl::Ellipsoid<S>*>(g), tf_shape, sc.radius, solver);
+    case fcl::GEOM_PLANE:
+      return bruteForceTriangles(m, tf_mesh, *static_cast<const fcl::Plane<S>*>(g), tf_shape, sc.radius, solver);
+    case fcl::GEOM_HALFSPACE:
+      return bruteForceTriangles(m, tf_mesh, *static_cast<const fcl::Halfspace<S>*>(g), tf_shape, sc.radius, solver);
+    case fcl::GEOM_CONVEX:
+      return bruteForceTriangles(m, tf_mesh, *static_cast<const fcl::Convex<S>*>(g), tf_shape, sc.radius, solver);
+    default: throw std::logic_error("bruteForceTriangles: unexpected shape");
+  }
+}
+
+template <typename S>
+std::set<int> bruteForceTriangles(const TriangleMesh<S>& m, const fcl::Transform3<S>& tf_mesh,
+                                  const ShapeCase<S>& sc, const fcl::Transform3<S>& tf_shape,
+                                  const fcl::CollisionRequest<S>& req)
+{
+  // The solvers configured exactly as fcl::collide and fcl_rs::collide configure them.
+  if (req.gjk_solver_type == fcl::GST_INDEP)
+  {
+    fcl::detail::GJKSolver_indep<S> solver;
+    solver.gjk_tolerance = req.gjk_tolerance;
+    solver.epa_tolerance = req.gjk_tolerance;
+    return bruteForceTriangles(m, tf_mesh, sc, tf_shape, solver);
+  }
+  fcl::detail::GJKSolver_libccd<S> solver;
+  solver.collision_tolerance = req.gjk_tolerance;
+  return bruteForceTriangles(m, tf_mesh, sc, tf_shape, solver);
+}
+
+/// Triangle ids of the mesh in a mesh-shape result (FCL reports the mesh as o1/b1 in both argument orders).
+template <typename S>
+std::set<int> meshTriangles(const fcl::CollisionResult<S>& r, const fcl::CollisionGeometry<S>* mesh, bool* mesh_is_o1)
+{
+  std::set<int> ids;
+  for (std::size_t i = 0; i < r.numContacts(); ++i)
+  {
+    ids.insert(r.getContact(i).b1);
+    if (r.getContact(i).o1 != mesh) *mesh_is_o1 = false;
+  }
+  return ids;
+}
+
+struct ShapeTally
+{
+  int poses = 0, colliding = 0, obb_disagreements = 0, failing_poses = 0;
+  std::size_t flat_contacts = 0;  // zero-area triangles reported against spheres, left out of the comparison
+};
+
+/// FCL's sphere-triangle test reports every zero-area triangle it is handed (see flatTriangles): for spheres,
+/// only the other triangles are compared.
+template <typename S>
+std::set<int> definedTriangles(const Mesh<S>& mesh, const ShapeCase<S>& sc, const std::set<int>& ids)
+{
+  if (sc.shape->getNodeType() != fcl::GEOM_SPHERE) return ids;
+  std::set<int> out;
+  for (int id : ids)
+    if (!mesh.flat[id]) out.insert(id);
+  return out;
+}
+
+/// One mesh-shape pose, both argument orders: the RS triangle set equals a per-triangle brute force of FCL's own
+/// leaf test; FCL's OBB tree (fcl::collide) is compared with the same brute force and disagreements are logged.
+template <typename S>
+bool checkShapePose(const Mesh<S>& mesh, const fcl::Transform3<S>& tf_mesh, const ShapeCase<S>& sc,
+                    const fcl::Transform3<S>& tf_shape, fcl::GJKSolverType solver, const std::string& label,
+                    ShapeTally& tally)
+{
+  SCOPED_TRACE(label + (solver == fcl::GST_INDEP ? " (GST_INDEP)" : " (GST_LIBCCD)") + "\n  tf_mesh  " +
+               poseString(tf_mesh) + "\n  tf_shape " + poseString(tf_shape));
+  ++tally.poses;
+  const auto* rs = mesh.rs.get();
+  const auto* obb = mesh.obb.get();
+  const auto* shape = sc.shape.get();
+  const auto req = request<S>(kAllContacts, false, solver);
+
+  fcl::CollisionResult<S> rs1, rs2, obb1, obb2, rs_first;
+  fcl_rs::collide<S>(rs, tf_mesh, shape, tf_shape, req, rs1);
+  fcl_rs::collide<S>(shape, tf_shape, rs, tf_mesh, req, rs2);
+  fcl::collide(obb, tf_mesh, shape, tf_shape, req, obb1);
+  fcl::collide(shape, tf_shape, obb, tf_mesh, req, obb2);
+  fcl_rs::collide<S>(rs, tf_mesh, shape, tf_shape, request<S>(1, false, solver), rs_first);
+  bool rs1_o1 = true, rs2_o1 = true, obb1_o1 = true, obb2_o1 = true;
+  const std::set<int> all_rs1 = meshTriangles(rs1, rs, &rs1_o1), all_rs2 = meshTriangles(rs2, rs, &rs2_o1);
+  const std::set<int> t_obb1 = definedTriangles(mesh, sc, meshTriangles(obb1, obb, &obb1_o1));
+  const std::set<int> t_obb2 = definedTriangles(mesh, sc, meshTriangles(obb2, obb, &obb2_o1));
+  // FCL's own convention, which fcl_rs mirrors: the mesh is o1 in both orders.
+  EXPECT_TRUE(obb1_o1 && obb2_o1) << "fcl::collide no longer reports the mesh as o1";
+  const std::set<int> t_rs1 = definedTriangles(mesh, sc, all_rs1), t_rs2 = definedTriangles(mesh, sc, all_rs2);
+  tally.flat_contacts += all_rs1.size() - t_rs1.size();
+  const std::set<int> truth = definedTriangles(mesh, sc, bruteForceTriangles(mesh.tri, tf_mesh, sc, tf_shape, req));
+  tally.colliding += !truth.empty();
+  if (t_obb1 != truth || t_obb2 != truth)
+  {
+    ++tally.obb_disagreements;
+    std::cout << "[collide] OBB disagrees with brute force: " << label << ": OBB missed " << onlyIn(truth, t_obb1)
+              << ", OBB extra " << onlyIn(t_obb1, truth) << "\n";
+  }
+  // First contact: a verdict consistent with the exhaustive query and a triangle it reports.
+  const bool first_ok = rs_first.isCollision() == !all_rs1.empty() &&
+                        rs_first.numContacts() == std::min<std::size_t>(1, all_rs1.size()) &&
+                        (rs_first.numContacts() == 0 || all_rs1.count(rs_first.getContact(0).b1) == 1);
+  const bool ok = t_rs1 == truth && t_rs2 == truth && rs1_o1 && rs2_o1 && rs1.numContacts() == all_rs1.size() &&
+                  rs2.numContacts() == all_rs2.size() && first_ok;
+  EXPECT_TRUE(t_rs1 == truth) << "mesh first: RS missed " << onlyIn(truth, t_rs1) << "; RS extra "
+                              << onlyIn(t_rs1, truth);
+  EXPECT_TRUE(t_rs2 == truth) << "shape first: RS missed " << onlyIn(truth, t_rs2) << "; RS extra "
+                              << onlyIn(t_rs2, truth);
+  EXPECT_TRUE(rs1_o1 && rs2_o1) << "RS result does not report the mesh as o1 (as fcl::collide does)";
+  EXPECT_EQ(rs1.numContacts(), all_rs1.size()) << "mesh first: a triangle reported twice";
+  EXPECT_EQ(rs2.numContacts(), all_rs2.size()) << "shape first: a triangle reported twice";
+  EXPECT_TRUE(first_ok) << "first contact: " << rs_first.numContacts() << " contacts, exhaustive query "
+                        << all_rs1.size();
+  if (!ok) ++tally.failing_poses;
+  return ok;
+}
+
+/// For each shape kind: random poses (shape centre within 0.6 (mesh + shape radius) of the mesh centre; planes and
+/// halfspaces within 1.2 mesh radii along their normal), then grazing poses: the shape slid along a random
+/// direction (planes: their normal) to where it only just touches, by bisection on the brute force's verdict.
+template <typename S>
+void checkMeshShapes(const Mesh<S>& mesh, int poses_per_shape = 25, int grazing_per_shape = 5)
+{
+  const std::string what = "collide/mesh-shape/" + mesh.name + "/" + scalarName<S>();
+  auto rng = fcl_rs::test::seededRng(what);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<ShapeTally> tallies(kNumShapeKinds), grazing(kNumShapeKinds);
+  std::vector<std::string> names(kNumShapeKinds);
+  for (int kind = 0; kind < kNumShapeKinds; ++kind)
+  {
+    int found = 0;
+    for (int i = 0; i < poses_per_shape + 10 * grazing_per_shape; ++i)
+    {
+      const bool graze = i >= poses_per_shape;
+      if (graze && found >= grazing_per_shape) break;
+      ShapeTally& tally = graze ? grazing[kind] : tallies[kind];
+      if (tally.failing_poses >= kMaxFailingPoses) continue;
+      const ShapeCase<S> sc = randomShape<S>(kind, rng, mesh.radius);
+      names[kind] = sc.name.substr(0, sc.name.find('('));
+      const fcl::Transform3<S> tf_mesh = fcl_rs::test::randomPose<S>(rng, 2 * mesh.radius);
+      fcl::Transform3<S> tf_shape = fcl_rs::test::randomPose<S>(rng, S(0.6) * (mesh.radius + sc.radius));
+      if (sc.radius > 0)
+        tf_shape.translation() += tf_mesh * mesh.center;
+      else
+        tf_shape.translation() = tf_mesh * mesh.center + tf_shape.linear().col(2) * S(1.2 * u(rng)) * mesh.radius;
+      // Both of FCL's GJK solvers, alternating, since fcl_rs::collide sets up either. Grazing poses use libccd
+      // only: GST_INDEP calls a triangle within gjk_tolerance (an absolute 1e-6) of a box or cone touching, so its
+      // boundary lies 1e-6 outside the shape, beyond any exact bound (FCL's OBB tree misses those triangles too).
+      const fcl::GJKSolverType solver = i % 2 && !graze ? fcl::GST_INDEP : fcl::GST_LIBCCD;
+      const std::string label = what + " " + sc.name + (graze ? " grazing" : "") + " pose #" + std::to_string(i);
+      if (!graze)
+      {
+        checkShapePose(mesh, tf_mesh, sc, tf_shape, solver, label, tally);
+        continue;
+      }
+      const fcl::Vector3<S> dir =
+          sc.radius > 0 ? fcl::Vector3<S>(fcl_rs::test::randomRotation<S>(rng).col(0)) : tf_shape.linear().col(2);
+      const auto at = [&](S s) {
+        fcl::Transform3<S> tf = tf_shape;
+        tf.translation() += s * dir;
+        return tf;
+      };
+      const auto req = request<S>(kAllContacts, false, solver);
+      const auto touching = [&](S s) {
+        return !definedTriangles(mesh, sc, bruteForceTriangles(mesh.tri, tf_mesh, sc, at(s), req)).empty();
+      };
+      // Moving by the mesh's diameter plus the shape's takes it clear (a halfspace only the other way round).
+      S far = 3 * (mesh.radius + sc.radius);
+      if (sc.shape->getNodeType() == fcl::GEOM_HALFSPACE) far = -far;
+      if (!touching(0) || touching(far)) continue;
+      ++found;
+      const auto [in, out] = bisectBoundary<S>(0, far, touching);
+      checkShapePose(mesh, tf_mesh, sc, at(in), solver, label + " (touching)", tally);
+      checkShapePose(mesh, tf_mesh, sc, at(out), solver, label + " (free)", tally);
+    }
+    for (const ShapeTally* t : {&tallies[kind], &grazing[kind]})
+      if (t->failing_poses >= kMaxFailingPoses)
+        ADD_FAILURE() << "stopped " << what << " " << names[kind] << " after " << kMaxFailingPoses
+                      << " failing poses";
+  }
+  int total = 0, colliding = 0;
+  for (int kind = 0; kind < kNumShapeKinds; ++kind)
+    for (const bool graze : {false, true})
+    {
+      const ShapeTally& t = graze ? grazing[kind] : tallies[kind];
+      std::cout << "[collide] " << what << " " << names[kind] << (graze ? " (grazing)" : "") << ": " << t.poses
+                << " poses, " << t.colliding << " colliding, " << t.obb_disagreements
+                << " OBB-vs-brute-force disagreements"
+                << (t.flat_contacts ? ", " + std::to_string(t.flat_contacts) + " zero-area triangles not compared"
+                                    : std::string())
+                << "\n";
+      if (graze)
+      {
+        if (t.failing_poses < kMaxFailingPoses)
+          EXPECT_GE(t.poses, 2 * grazing_per_shape) << what << " " << names[kind] << ": too few grazing poses found";
+        continue;
+      }
+      total += t.poses;
+      colliding += t.colliding;
+    }
+  EXPECT_GE(total, 200);
+  EXPECT_GE(colliding, total / 5) << what << ": too few colliding poses to be a meaningful test";
+  EXPECT_LE(colliding, total * 4 / 5) << what << ": too few free poses to be a meaningful test";
+}
+
+template <typename S>
+class CollideMeshShape : public ::testing::Test {};
+TYPED_TEST_SUITE(CollideMeshShape, fcl_rs::test::Scalars);
+
+TYPED_TEST(CollideMeshShape, TorusBothOrdersMatchOBBTree)
+{
+  using S = TypeParam;
+  checkMeshShapes(prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.3))));
+}
+
+TYPED_TEST(CollideMeshShape, SpiderBothOrdersMatchOBBTree)
+{
+  using S = TypeParam;
+  REQUIRE_ASSIMP(spider, S, "STL/Spider_binary.stl", S(1));
+  checkMeshShapes(spider);
+}
+
+TYPED_TEST(CollideMeshShape, PandaLinkBothOrdersMatchOBBTree)
+{
+  using S = TypeParam;
+  REQUIRE_SHARED(link1, S, "robots/panda/meshes/collision/link1.stl", S(1));
+  checkMeshShapes(link1);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Drop-in behaviour of fcl_rs::collide.
+
+template <typename S>
+class CollideDropIn : public ::testing::Test {};
+TYPED_TEST_SUITE(CollideDropIn, fcl_rs::test::Scalars);
+
+TYPED_TEST(CollideDropIn, CollisionObjectsMatchGeometryOverloadAndBruteForce)
+{
+  using S = TypeParam;
+  const auto sphere = prepare<S>("sphere", fcl_rs::makeSphere<S>(1));
+  const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.3)));
+  auto box = std::make_shared<fcl::Box<S>>(S(0.5), S(0.4), S(1.5));
+  auto rng = fcl_rs::test::seededRng("collide/drop-in/objects/" + scalarName<S>());
+  int colliding = 0;
+  for (int i = 0; i < 40; ++i)
+  {
+    const auto [tf1, tf2] = nearbyPoses(rng, sphere, torus, S(0.6), S(3));
+    SCOPED_TRACE("pose #" + std::to_string(i) + "\n  tf1 " + poseString(tf1) + "\n  tf2 " + poseString(tf2));
+    fcl::CollisionObject<S> o1(sphere.rs, tf1), o2(torus.rs, tf2), ob(box, tf2);
+    const auto req = request<S>(kAllContacts, false);
+    fcl::CollisionResult<S> by_object, by_geometry;
+    const std::size_t n = fcl_rs::collide(&o1, &o2, req, by_object);
+    fcl_rs::collide<S>(sphere.rs.get(), tf1, torus.rs.get(), tf2, req, by_geometry);
+    const TrianglePairs brute = bruteForce(sphere, tf1, torus, tf2);
+    colliding += !brute.empty();
+    EXPECT_EQ(n, by_object.numContacts());
+    EXPECT_TRUE(fcl_rs::test::contactPairs(by_object) == brute);
+    EXPECT_TRUE(fcl_rs::test::contactPairs(by_object) == fcl_rs::test::contactPairs(by_geometry));
+    // RS mesh object against a shape object, both orders, equals FCL's OBB mesh object.
+    fcl::CollisionObject<S> o1_obb(sphere.obb, tf1);
+    fcl::CollisionResult<S> rs_box, box_rs, obb_box;
+    fcl_rs::collide(&o1, &ob, req, rs_box);
+    fcl_rs::collide(&ob, &o1, req, box_rs);
+    fcl::collide(&o1_obb, &ob, req, obb_box);
+    EXPECT_TRUE(fcl_rs::test::contactPairs(rs_box) == fcl_rs::test::contactPairs(obb_box));
+    EXPECT_TRUE(fcl_rs::test::contactPairs(box_rs) == fcl_rs::test::contactPairs(obb_box));
+  }
+  EXPECT_GT(colliding, 0);
+  EXPECT_LT(colliding, 40);
+}
+
+TYPED_TEST(CollideDropIn, PairsWithoutRSAreFclCollide)
+{
+  using S = TypeParam;
+  const auto sphere = prepare<S>("sphere", fcl_rs::makeSphere<S>(1));
+  const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.3)));
+  const auto box1 = std::make_shared<fcl::Box<S>>(S(1), S(0.5), S(2));
+  const auto box2 = std::make_shared<fcl::Box<S>>(S(0.7), S(0.7), S(0.3));
+  const auto capsule = std::make_shared<fcl::Capsule<S>>(S(0.3), S(1));
+  auto rng = fcl_rs::test::seededRng("collide/drop-in/no-rs/" + scalarName<S>());
+  int box_box_hits = 0;
+  for (int i = 0; i < 60; ++i)
+  {
+    const fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(1));
+    const fcl::Transform3<S> tf2 = fcl_rs::test::randomPose<S>(rng, S(1));
+    SCOPED_TRACE("pose #" + std::to_string(i) + "\n  tf1 " + poseString(tf1) + "\n  tf2 " + poseString(tf2));
+    for (bool contact : {false, true})
+    {
+      const auto req = request<S>(contact ? 8 : kAllContacts, contact);
+      const auto same = [&](const fcl::CollisionGeometry<S>* g1, const fcl::CollisionGeometry<S>* g2) {
+        fcl::CollisionResult<S> ours, theirs;
+        const std::size_t n_ours = fcl_rs::collide<S>(g1, tf1, g2, tf2, req, ours);
+        const std::size_t n_theirs = fcl::collide(g1, tf1, g2, tf2, req, theirs);
+        EXPECT_EQ(n_ours, n_theirs);
+        EXPECT_EQ(ours.isCollision(), theirs.isCollision());
+        EXPECT_TRUE(contactKeys(ours) == contactKeys(theirs));
+        return theirs.isCollision();
+      };
+      box_box_hits += same(box1.get(), box2.get());
+      same(capsule.get(), box1.get());
+      same(sphere.obb.get(), box1.get());
+      same(box2.get(), torus.obb.get());
+      same(sphere.obb.get(), torus.obb.get());
+    }
+    // The CollisionObject overload delegates the same way.
+    fcl::CollisionObject<S> a(box1, tf1), b(torus.obb, tf2);
+    fcl::CollisionResult<S> ours, theirs;
+    const auto req = request<S>(kAllContacts, false);
+    EXPECT_EQ(fcl_rs::collide(&a, &b, req, ours), fcl::collide(&a, &b, req, theirs));
+    EXPECT_TRUE(fcl_rs::test::contactPairs(ours) == fcl_rs::test::contactPairs(theirs));
+  }
+  EXPECT_GT(box_box_hits, 0);
+}
+
+TYPED_TEST(CollideDropIn, UnsupportedPairsThrow)
+{
+  using S = TypeParam;
+  const auto sphere = prepare<S>("sphere", fcl_rs::makeSphere<S>(1));
+  const auto aabb = fcl_rs::buildModel<fcl::AABB<S>>(sphere.tri);
+  const fcl::TriangleP<S> triangle(fcl::Vector3<S>(0, 0, 0), fcl::Vector3<S>(1, 0, 0), fcl::Vector3<S>(0, 1, 0));
+  const fcl::Transform3<S> I = fcl::Transform3<S>::Identity();
+  // Overlapping placements: a silent "no collision" would be a false negative.
+  for (bool contact : {false, true})
+  {
+    const auto req = request<S>(kAllContacts, contact);
+    fcl::CollisionResult<S> res;
+    EXPECT_THROW(fcl_rs::collide<S>(sphere.rs.get(), I, sphere.obb.get(), I, req, res), std::invalid_argument);
+    EXPECT_THROW(fcl_rs::collide<S>(sphere.obb.get(), I, sphere.rs.get(), I, req, res), std::invalid_argument);
+    EXPECT_THROW(fcl_rs::collide<S>(sphere.rs.get(), I, aabb.get(), I, req, res), std::invalid_argument);
+    EXPECT_THROW(fcl_rs::collide<S>(&triangle, I, sphere.rs.get(), I, req, res), std::invalid_argument);
+    EXPECT_THROW(fcl_rs::collide<S>(sphere.rs.get(), I, nullptr, I, req, res), std::invalid_argument);
+    EXPECT_EQ(res.numContacts(), 0u);
+  }
+  fcl::CollisionObject<S> rs_obj(sphere.rs, I), obb_obj(sphere.obb, I);
+  fcl::CollisionResult<S> res;
+  EXPECT_THROW(fcl_rs::collide(&rs_obj, &obb_obj, request<S>(1, false), res), std::invalid_argument);
+}
+
+TYPED_TEST(CollideDropIn, UnbuiltRSModelThrows)
+{
+  using S = TypeParam;
+  const auto sphere = prepare<S>("sphere", fcl_rs::makeSphere<S>(1));
+  const fcl::Box<S> box(1, 1, 1);
+  const fcl::Transform3<S> I = fcl::Transform3<S>::Identity();
+  fcl::BVHModel<fcl_rs::RS<S>> begun;  // triangles added, endModel() never called
+  ASSERT_EQ(begun.beginModel(), fcl::BVH_OK);
+  ASSERT_EQ(begun.addSubModel(sphere.tri.vertices, sphere.tri.triangles), fcl::BVH_OK);
+  const fcl::BVHModel<fcl_rs::RS<S>> empty;
+  const fcl::BVHModel<fcl_rs::RS<S>>* unbuilt_models[] = {&begun, &empty};
+  for (const auto* unbuilt : unbuilt_models)
+  {
+    fcl::CollisionResult<S> res;
+    const auto req = request<S>(kAllContacts, false);
+    EXPECT_THROW(fcl_rs::collide<S>(unbuilt, I, sphere.rs.get(), I, req, res), std::invalid_argument);
+    EXPECT_THROW(fcl_rs::collide<S>(sphere.rs.get(), I, unbuilt, I, req, res), std::invalid_argument);
+    EXPECT_THROW(fcl_rs::collide<S>(unbuilt, I, &box, I, req, res), std::invalid_argument);
+    EXPECT_THROW(fcl_rs::collide<S>(&box, I, unbuilt, I, req, res), std::invalid_argument);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// collideWithStats for every BV type.
+
+template <typename BV>
+void checkStats(const TriangleMesh<typename BV::S>& m1, const TriangleMesh<typename BV::S>& m2,
+                const std::vector<std::pair<fcl::Transform3<typename BV::S>, fcl::Transform3<typename BV::S>>>& poses,
+                const std::vector<bool>& verdicts, const char* name)
+{
+  using S = typename BV::S;
+  const auto a = fcl_rs::buildModel<BV>(m1);
+  const auto b = fcl_rs::buildModel<BV>(m2);
+  for (std::size_t i = 0; i < poses.size(); ++i)
+  {
+    SCOPED_TRACE(std::string(name) + " pose #" + std::to_string(i));
+    fcl::CollisionResult<S> res, first;
+    const fcl_rs::QueryStats st =
+        fcl_rs::collideWithStats(*a, poses[i].first, *b, poses[i].second, request<S>(kAllContacts, false), res);
+    const fcl_rs::QueryStats st_first =
+        fcl_rs::collideWithStats(*a, poses[i].first, *b, poses[i].second, request<S>(1, false), first);
+    EXPECT_GT(st.num_bv_tests, 0);
+    EXPECT_GE(st.num_leaf_tests, int(res.numContacts())) << "every reported pair was leaf-tested";
+    if (verdicts[i]) EXPECT_GT(st.num_leaf_tests, 0);
+    EXPECT_EQ(res.isCollision(), bool(verdicts[i]));
+    EXPECT_EQ(first.isCollision(), bool(verdicts[i]));
+    // A first-contact query stops early, so it never tests more than the exhaustive one on the same trees.
+    EXPECT_GE(st_first.num_bv_tests, 1);
+    EXPECT_LE(st_first.num_bv_tests, st.num_bv_tests);
+    EXPECT_LE(st_first.num_leaf_tests, st.num_leaf_tests);
+  }
+}
+
+template <typename S>
+class CollideStats : public ::testing::Test {};
+TYPED_TEST_SUITE(CollideStats, fcl_rs::test::Scalars);
+
+TYPED_TEST(CollideStats, EveryBVTypeCountsTestsAndAgrees)
+{
+  using S = TypeParam;
+  const auto sphere = prepare<S>("sphere", fcl_rs::makeSphere<S>(1));
+  const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.3)));
+  auto rng = fcl_rs::test::seededRng("collide/stats/" + scalarName<S>());
+  std::vector<std::pair<fcl::Transform3<S>, fcl::Transform3<S>>> poses;
+  // Concentric (the torus cuts the sphere) and far apart, then random nearby poses.
+  poses.emplace_back(fcl::Transform3<S>::Identity(), fcl::Transform3<S>::Identity());
+  fcl::Transform3<S> far = fcl::Transform3<S>::Identity();
+  far.translation() = fcl::Vector3<S>(5, 0, 0);
+  poses.emplace_back(fcl::Transform3<S>::Identity(), far);
+  for (int i = 0; i < 6; ++i) poses.push_back(nearbyPoses(rng, sphere, torus, S(0.6), S(3)));
+
+  std::vector<bool> verdicts;
+  for (std::size_t i = 0; i < poses.size(); ++i)
+  {
+    const auto& [tf1, tf2] = poses[i];
+    const TrianglePairs brute = bruteForce(sphere, tf1, torus, tf2);
+    verdicts.push_back(!brute.empty());
+    // The RS statistics path reports the same pairs as fcl_rs::collide, i.e. the brute-force pairs.
+    fcl::CollisionResult<S> res;
+    const fcl_rs::QueryStats st =
+        fcl_rs::collideWithStats(*sphere.rs, tf1, *torus.rs, tf2, request<S>(kAllContacts, false), res);
+    EXPECT_TRUE(fcl_rs::test::contactPairs(res) == brute) << "pose #" << i;
+    EXPECT_GE(st.num_leaf_tests, int(brute.size()));
+  }
+  EXPECT_TRUE(verdicts[0]);
+  EXPECT_FALSE(verdicts[1]);
+  checkStats<fcl_rs::RS<S>>(sphere.tri, torus.tri, poses, verdicts, "RS");
+  checkStats<fcl::AABB<S>>(sphere.tri, torus.tri, poses, verdicts, "AABB");
+  checkStats<fcl::OBB<S>>(sphere.tri, torus.tri, poses, verdicts, "OBB");
+  checkStats<fcl::RSS<S>>(sphere.tri, torus.tri, poses, verdicts, "RSS");
+  checkStats<fcl::OBBRSS<S>>(sphere.tri, torus.tri, poses, verdicts, "OBBRSS");
+  checkStats<fcl::kIOS<S>>(sphere.tri, torus.tri, poses, verdicts, "kIOS");
+  checkStats<fcl::KDOP<S, 16>>(sphere.tri, torus.tri, poses, verdicts, "KDOP16");
+  checkStats<fcl::KDOP<S, 18>>(sphere.tri, torus.tri, poses, verdicts, "KDOP18");
+  checkStats<fcl::KDOP<S, 24>>(sphere.tri, torus.tri, poses, verdicts, "KDOP24");
+}
+
+}  // namespace
