@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include <fcl/math/geometry.h>
 #include <fcl/narrowphase/collision_result.h>
 #include <fcl/narrowphase/detail/traversal/collision/intersect.h>
 #include <gtest/gtest.h>
@@ -72,9 +73,10 @@ template <typename S>
 TrianglePairs bruteForcePairs(const TriangleMesh<S>& m1, const fcl::Transform3<S>& tf1, const TriangleMesh<S>& m2,
                               const fcl::Transform3<S>& tf2)
 {
-  const fcl::Transform3<S> rel = tf1.inverse(Eigen::Isometry) * tf2;
-  const fcl::Matrix3<S> R = rel.linear();
-  const fcl::Vector3<S> T = rel.translation();
+  // The same relative transform, rounded the same way, as FCL's oriented traversal setup.
+  fcl::Matrix3<S> R;
+  fcl::Vector3<S> T;
+  fcl::relativeTransform(tf1.linear(), tf1.translation(), tf2.linear(), tf2.translation(), R, T);
   std::vector<fcl::Vector3<S>> moved;
   moved.reserve(m2.vertices.size());
   for (const auto& v : m2.vertices) moved.push_back(R * v + T);
