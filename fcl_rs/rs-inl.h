@@ -357,43 +357,75 @@ struct RelativeFrame
   }
 };
 
-/// Whether the principal boxes (which contain the volumes) are apart along one of their 6 face
-/// axes: a cheap conservative filter that rejects most separated pairs before any support query.
+/// One volume's principal box projected on the other volume's nine slab directions: each direction
+/// expressed in the projected volume's frame, and the box's interval mid +- radius along it.
 template <typename S>
-bool boxesSeparated(const RelativeFrame<S>& f)
+struct ProjectedBox
 {
-  const fcl::Matrix3<S> A = f.M.cwiseAbs();
-  if (((f.M * f.box2.c + f.t - f.box1.c).cwiseAbs() - f.box1.h - A * f.box2.h).maxCoeff() > f.tol) return true;
-  return ((f.M.transpose() * (f.box1.c - f.t) - f.box2.c).cwiseAbs() - f.box2.h - A.transpose() * f.box1.h)
-             .maxCoeff() > f.tol;
-}
+  /// rows: the other volume's principal axes in this volume's frame; centre: this box's centre in
+  /// the other volume's frame.
+  ProjectedBox(const fcl::Matrix3<S>& rows, const fcl::Vector3<S>& centre, const Box<S>& box)
+  {
+    for (int k = 0; k < kNumSlabs; ++k)
+    {
+      dir[k] = slabOfRows(rows, k);
+      mid[k] = projectOnSlab(centre, k);
+      radius[k] = dir[k].cwiseAbs().dot(box.h);
+    }
+  }
+  fcl::Vector3<S> dir[kNumSlabs];
+  S mid[kNumSlabs];
+  S radius[kNumSlabs];
+};
 
-/// Gap between interval [lo, hi] and a volume projected on direction e (its frame) plus shift;
-/// positive means separated. The volume's box interval comes first: an exact support is computed
-/// only on a side where the box sticks out, since only there can the polytope be apart.
+/// Gap between [lo, hi] and volume b (box c, projection p) along p's direction k; positive means
+/// separated. An exact support is computed only on a side where the box sticks out past the
+/// interval, since only there can the polytope be apart; elsewhere the box bound is as good.
 template <typename S>
-S intervalGap(S lo, S hi, const RS<S>& b, const Box<S>& box, const fcl::Vector3<S>& e, S shift)
+S slabGap(S lo, S hi, const RS<S>& b, const Box<S>& box, const ProjectedBox<S>& p, int k)
 {
-  const S mid = e.dot(box.c) + shift, radius = e.cwiseAbs().dot(box.h);
-  const S lowest = mid - radius > hi || mid + radius <= hi ? mid - radius : shift - b.support(-e);
-  const S highest = mid + radius < lo || mid - radius >= lo ? mid + radius : shift + b.support(e);
+  const fcl::Vector3<S>& e = p.dir[k];
+  const S low_box = p.mid[k] - p.radius[k], high_box = p.mid[k] + p.radius[k];
+  const S shift = p.mid[k] - e.dot(box.c);  // projection of b's frame origin
+  const S lowest = low_box > hi || high_box <= hi ? low_box : shift - b.support(-e);
+  const S highest = high_box < lo || low_box >= lo ? high_box : shift + b.support(e);
   return std::max(lowest - hi, lo - highest);
 }
 
-/// Gap between b1 and b2 along slab k of b1 (k < 9) or of b2 (k >= 9); positive means separated.
+/// Both volumes' boxes on the other's directions, with everything a test needs.
 template <typename S>
-S slabGap(const RelativeFrame<S>& f, const RS<S>& b1, const RS<S>& b2, int k)
+struct PairProjection
 {
-  if (k < kNumSlabs)  // b1's direction, expressed in b2's frame
-    return intervalGap(b1.lo[k], b1.hi[k], b2, f.box2, slabOfRows(f.M, k), projectOnSlab(f.t, k));
-  k -= kNumSlabs;     // b2's direction, expressed in b1's frame
-  const fcl::Vector3<S> e = slabOfColumns(f.M, k);
-  return intervalGap(b2.lo[k], b2.hi[k], b1, f.box1, e, -e.dot(f.t));
-}
+  PairProjection(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1_, const RS<S>& b2_)
+    : b1(b1_), b2(b2_), f(R, T, b1_, b2_), on1(f.M, f.M * f.box2.c + f.t, f.box2),
+      on2(f.M.transpose(), f.M.transpose() * (f.box1.c - f.t), f.box1)
+  {
+  }
 
-/// Slab order for early exit: the diagonals first (the box filter has already tried the principal
-/// axes with the boxes), then the principal axes with the exact polytopes.
-inline constexpr std::array<int, 18> kSlabTestOrder = {3, 12, 4, 13, 5, 14, 6, 15, 7, 16, 8, 17, 0, 9, 1, 10, 2, 11};
+  /// Whether the boxes are apart along one of the 18 directions (which include their face axes).
+  bool boxesSeparated() const
+  {
+    for (int k = 0; k < kNumSlabs; ++k)
+    {
+      if (on1.mid[k] - on1.radius[k] > b1.hi[k] + f.tol || on1.mid[k] + on1.radius[k] < b1.lo[k] - f.tol) return true;
+      if (on2.mid[k] - on2.radius[k] > b2.hi[k] + f.tol || on2.mid[k] + on2.radius[k] < b2.lo[k] - f.tol) return true;
+    }
+    return false;
+  }
+
+  /// Gap along b1's slab k (k < 9) or b2's slab k - 9.
+  S gap(int k) const
+  {
+    return k < kNumSlabs ? slabGap(b1.lo[k], b1.hi[k], b2, f.box2, on1, k)
+                         : slabGap(b2.lo[k - kNumSlabs], b2.hi[k - kNumSlabs], b1, f.box1, on2, k - kNumSlabs);
+  }
+
+  const RS<S>& b1;
+  const RS<S>& b2;
+  RelativeFrame<S> f;
+  ProjectedBox<S> on1;  ///< b2's box on b1's directions
+  ProjectedBox<S> on2;  ///< b1's box on b2's directions
+};
 
 }  // namespace detail
 
@@ -401,27 +433,13 @@ template <typename S>
 bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2, OverlapTest test)
 {
   if (b1.empty() || b2.empty()) return false;
-  const detail::RelativeFrame<S> f(R, T, b1, b2);
-  if (detail::boxesSeparated(f)) return false;
-  if (test == OverlapTest::kBoxed)
-  {
-    // Each volume's diagonal slabs against the other's principal box: no support query.
-    const fcl::Vector3<S> c2_in_1 = f.M * f.box2.c + f.t, c1_in_2 = f.M.transpose() * (f.box1.c - f.t);
-    for (int k = 3; k < kNumSlabs; ++k)
-    {
-      const S c = projectOnSlab(c2_in_1, k), r = detail::slabOfRows(f.M, k).cwiseAbs().dot(f.box2.h);
-      if (c - r > b1.hi[k] + f.tol || c + r < b1.lo[k] - f.tol) return false;
-      const S cc = projectOnSlab(c1_in_2, k), rr = detail::slabOfColumns(f.M, k).cwiseAbs().dot(f.box1.h);
-      if (cc - rr > b2.hi[k] + f.tol || cc + rr < b2.lo[k] - f.tol) return false;
-    }
-    return true;
-  }
-  for (int k : detail::kSlabTestOrder)
-  {
-    // One-sided: only b2's polytope on b1's directions (k < 9), as in the paper.
-    if (test == OverlapTest::kOneSided && k >= kNumSlabs) continue;
-    if (detail::slabGap(f, b1, b2, k) > f.tol) return false;
-  }
+  const detail::PairProjection<S> p(R, T, b1, b2);
+  if (p.boxesSeparated()) return false;
+  if (test == OverlapTest::kBoxed) return true;
+  // One-sided: only b2's polytope on b1's directions, as in the paper.
+  const int slabs = test == OverlapTest::kOneSided ? kNumSlabs : 2 * kNumSlabs;
+  for (int k = 0; k < slabs; ++k)
+    if (p.gap(k) > p.f.tol) return false;
   return true;
 }
 
@@ -430,12 +448,13 @@ S distance(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, 
            fcl::Vector3<S>* P, fcl::Vector3<S>* Q)
 {
   if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
-  const detail::RelativeFrame<S> f(R, T, b1, b2);
+  const detail::PairProjection<S> p(R, T, b1, b2);
+  const detail::RelativeFrame<S>& f = p.f;
   S best = -std::numeric_limits<S>::max();
   int best_k = 0;
   for (int k = 0; k < 2 * kNumSlabs; ++k)
   {
-    const S gap = detail::slabGap(f, b1, b2, k);
+    const S gap = p.gap(k);
     if (gap > best) { best = gap; best_k = k; }
   }
   if (P || Q)
