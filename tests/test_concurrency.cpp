@@ -94,7 +94,7 @@ struct Scene
   {
     const auto& [tf1, tf2] = poses[std::size_t(i)];
     Answer<S> a;
-    collide(objects[std::size_t(i)].first.get(), objects[std::size_t(i)].second.get(),
+    fcl_rs::collide(objects[std::size_t(i)].first.get(), objects[std::size_t(i)].second.get(),
             fcl::CollisionRequest<S>(kAllContacts, true), a.mesh_mesh);
     const fcl::CollisionRequest<S> pairs_only(kAllContacts, false);
     fcl::CollisionResult<S> r1, r2;
@@ -105,8 +105,8 @@ struct Scene
     for (const auto& shape : shapes)
     {
       fcl::CollisionResult<S> mesh_first, shape_first;
-      collide<S>(torus.get(), tf2, shape.get(), tf1, fcl::CollisionRequest<S>(kAllContacts, true), mesh_first);
-      collide<S>(shape.get(), tf1, torus.get(), tf2, fcl::CollisionRequest<S>(kAllContacts, true), shape_first);
+      fcl_rs::collide<S>(torus.get(), tf2, shape.get(), tf1, fcl::CollisionRequest<S>(kAllContacts, true), mesh_first);
+      fcl_rs::collide<S>(shape.get(), tf1, torus.get(), tf2, fcl::CollisionRequest<S>(kAllContacts, true), shape_first);
       a.mesh_shape.push_back(mesh_first);
       a.mesh_shape.push_back(shape_first);
     }

@@ -194,7 +194,7 @@ struct Reference
   test::TrianglePairs query(int i) const
   {
     fcl::CollisionResult<S> r;
-    collide<S>(model.get(), fcl::Transform3<S>::Identity(), torus.get(), poses[std::size_t(i)],
+    fcl_rs::collide<S>(model.get(), fcl::Transform3<S>::Identity(), torus.get(), poses[std::size_t(i)],
                fcl::CollisionRequest<S>(100000, false), r);
     return test::contactPairs(r);
   }
@@ -276,7 +276,7 @@ TYPED_TEST(BadMeshes, RejectedWithTheirIndexAndBuiltModelsStayUnchanged)
   fcl::CollisionResult<S> res;
   const auto identity = fcl::Transform3<S>::Identity();
   const std::string refused = messageOf([&] {
-    collide<S>(&raw, identity, ref.model.get(), identity, fcl::CollisionRequest<S>(1, false), res);
+    fcl_rs::collide<S>(&raw, identity, ref.model.get(), identity, fcl::CollisionRequest<S>(1, false), res);
   });
   EXPECT_NE(refused.find("not built"), std::string::npos) << refused;
   EXPECT_FALSE(res.isCollision());
