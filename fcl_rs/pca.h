@@ -33,29 +33,14 @@ inline Eigen::Vector3d perpendicularFromModelAxes(const Eigen::Vector3d& n)
 
 }  // namespace detail
 
-/// Principal frame of n points given by point_at(i). Accumulates in double about the mean
-/// (two passes: FCL's one-pass covariance loses the axes far from the origin).
-/// Fallbacks: a single point or all-equal eigenvalues (cube, sphere, octahedron) keep the model
-/// axes; two equal eigenvalues (collinear points, square plates, cylinders) keep the distinct axis
-/// and take the others from the model axes. Throws std::domain_error on non-finite coordinates.
-template <typename S, typename PointAt>
-PrincipalFrame<S> principalFrame(int n, PointAt point_at)
+/// Principal frame of a distribution given its covariance C about its mean (both in double), e.g. an
+/// area-weighted one; the eigen solve and fallbacks of principalFrame below (a C that is not finite
+/// keeps the model axes). Throws std::domain_error when mean is not finite.
+template <typename S>
+PrincipalFrame<S> principalFrameOfCovariance(const Eigen::Matrix3d& C, const Eigen::Vector3d& mean)
 {
-  if (n <= 0) throw std::invalid_argument("fcl_rs::principalFrame: no points to fit");
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int i = 0; i < n; ++i) mean += point_at(i).template cast<double>();
-  mean /= n;
   if (!mean.allFinite())
     throw std::domain_error("fcl_rs: cannot fit a bounding volume to non-finite (NaN or Inf) vertex coordinates");
-
-  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-  for (int i = 0; i < n; ++i)
-  {
-    const Eigen::Vector3d d = point_at(i).template cast<double>() - mean;
-    C.noalias() += d * d.transpose();
-  }
-  C /= n;
-
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(C);
   const double l0 = solver.eigenvalues()[2], l1 = solver.eigenvalues()[1], l2 = solver.eigenvalues()[0];
@@ -91,6 +76,28 @@ PrincipalFrame<S> principalFrame(int n, PointAt point_at)
   frame.axis = axes.cast<S>();
   frame.mean = mean.cast<S>();
   return frame;
+}
+
+/// Principal frame of n points given by point_at(i). Accumulates in double about the mean
+/// (two passes: FCL's one-pass covariance loses the axes far from the origin).
+/// Fallbacks: a single point or all-equal eigenvalues (cube, sphere, octahedron) keep the model
+/// axes; two equal eigenvalues (collinear points, square plates, cylinders) keep the distinct axis
+/// and take the others from the model axes. Throws std::domain_error on non-finite coordinates.
+template <typename S, typename PointAt>
+PrincipalFrame<S> principalFrame(int n, PointAt point_at)
+{
+  if (n <= 0) throw std::invalid_argument("fcl_rs::principalFrame: no points to fit");
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) mean += point_at(i).template cast<double>();
+  mean /= n;
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < n; ++i)
+  {
+    const Eigen::Vector3d d = point_at(i).template cast<double>() - mean;
+    C.noalias() += d * d.transpose();
+  }
+  C /= n;
+  return principalFrameOfCovariance<S>(C, mean);
 }
 
 }  // namespace fcl_rs
