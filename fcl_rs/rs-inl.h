@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -91,7 +92,24 @@ RS<S>& RS<S>::operator+=(const fcl::Vector3<S>& p)
 {
   if (empty()) origin = p;
   expandFrame(toFrame(p), 0);
+  updateBoxExcess();
   return *this;
+}
+
+template <typename S>
+void RS<S>::updateBoxExcess()
+{
+  box_excess = 0;
+  if (empty()) return;
+  fcl::Vector3<S> v[4];
+  for (int octant = 0; octant < 8; ++octant)
+  {
+    cornerVertices(octant, v);
+    const fcl::Vector3<S> box_corner(octant & 1 ? lo[0] : hi[0], octant & 2 ? lo[1] : hi[1], octant & 4 ? lo[2] : hi[2]);
+    S nearest = (box_corner - v[0]).norm();
+    for (int i = 1; i < 4; ++i) nearest = std::min(nearest, (box_corner - v[i]).norm());
+    box_excess = std::max(box_excess, nearest);
+  }
 }
 
 template <typename S>
@@ -103,6 +121,7 @@ RS<S>& RS<S>::operator+=(const RS<S>& other)
   // Corners carry the rounding of other's slab arithmetic and of the change of frame.
   const S abs_err = 8 * detail::eps<S>() * (other.magnitude() + (other.origin - origin).template lpNorm<1>());
   for (const auto& c : pts) expandFrame(toFrame(other.toModel(c)), abs_err);
+  updateBoxExcess();
   return *this;
 }
 
@@ -205,18 +224,22 @@ S RS<S>::support(const fcl::Vector3<S>& dir) const
   // positive), the vertices are P - a(1,-1,1) - (b+c)(-1,1,1), onA - 2a e_z, onA - 2a e_y,
   // onB - 2b e_z, onB - 2b e_x, onC - 2c e_y, onC - 2c e_x (repeats allowed). No branches, which
   // matters in a traversal where every test meets a different configuration.
+  // Slab ends are picked by indexing, not by conditionals: a sign branch would be mispredicted
+  // half the time.
   const S ex = std::abs(dir[0]), ey = std::abs(dir[1]), ez = std::abs(dir[2]);
-  const bool nx = dir[0] < 0, ny = dir[1] < 0, nz = dir[2] < 0;
-  const S X = nx ? -lo[0] : hi[0], Y = ny ? -lo[1] : hi[1], Z = nz ? -lo[2] : hi[2];
-  auto chamfer = [this](bool ni, bool nj, int plus, int minus) {
-    const int k = ni == nj ? plus : minus;
-    return S(M_SQRT2) * (ni ? -lo[k] : hi[k]);
-  };
-  const S Cxy = chamfer(nx, ny, diagonalIndex(0, 1, +1), diagonalIndex(0, 1, -1));
-  const S Cxz = chamfer(nx, nz, diagonalIndex(0, 2, +1), diagonalIndex(0, 2, -1));
-  const S Cyz = chamfer(ny, nz, diagonalIndex(1, 2, +1), diagonalIndex(1, 2, -1));
+  const int nx = dir[0] < 0, ny = dir[1] < 0, nz = dir[2] < 0;
+  const S flip[2] = {S(1), S(-1)};
+  const S* const ends[2] = {hi.data(), lo.data()};
+  auto end = [&](int neg, int k) { return flip[neg] * ends[neg][k]; };
+  const S X = end(nx, 0), Y = end(ny, 1), Z = end(nz, 2);
+  // The chamfer over (u_i, u_j) facing this corner is the "plus" diagonal when the signs agree.
+  const int minus = diagonalIndex(0, 1, -1) - diagonalIndex(0, 1, +1);
+  const S Cxy = S(M_SQRT2) * end(nx, diagonalIndex(0, 1, +1) + minus * (nx ^ ny));
+  const S Cxz = S(M_SQRT2) * end(nx, diagonalIndex(0, 2, +1) + minus * (nx ^ nz));
+  const S Cyz = S(M_SQRT2) * end(ny, diagonalIndex(1, 2, +1) + minus * (ny ^ nz));
   const S Px = (Cxy + Cxz - Cyz) / 2, Py = (Cxy + Cyz - Cxz) / 2, Pz = (Cxz + Cyz - Cxy) / 2;
-  const S a = std::max(Px - X, S(0)), b = std::max(Py - Y, S(0)), c = std::max(Pz - Z, S(0));
+  auto positive = [](S v) { return v > 0 ? v : S(0); };
+  const S a = positive(Px - X), b = positive(Py - Y), c = positive(Pz - Z);
   const S at_p = ex * Px + ey * Py + ez * Pz - a * (ex - ey + ez) - (b + c) * (ey + ez - ex);
   const S at_a = X * (ex - ey - ez) + Cxy * ey + Cxz * ez - 2 * a * std::min(ey, ez);
   const S at_b = Y * (ey - ex - ez) + Cxy * ex + Cyz * ez - 2 * b * std::min(ex, ez);
@@ -347,7 +370,9 @@ struct RelativeFrame
     : box1(b1), box2(b2)
   {
     const fcl::Vector3<S> o2 = R * b2.origin;
-    M.noalias() = b1.axis.transpose() * (R * b2.axis);
+    fcl::Matrix3<S> RB;
+    RB.noalias() = R.lazyProduct(b2.axis);
+    M.noalias() = b1.axis.transpose().lazyProduct(RB);
     t.noalias() = b1.axis.transpose() * (o2 + T - b1.origin);
     // t loses a few ulps of the magnitudes it is computed from; corners and projections a few ulps
     // of the volumes' extents (every point of a volume lies within its box).
@@ -402,17 +427,6 @@ struct PairProjection
   {
   }
 
-  /// Whether the boxes are apart along one of the 18 directions (which include their face axes).
-  bool boxesSeparated() const
-  {
-    for (int k = 0; k < kNumSlabs; ++k)
-    {
-      if (on1.mid[k] - on1.radius[k] > b1.hi[k] + f.tol || on1.mid[k] + on1.radius[k] < b1.lo[k] - f.tol) return true;
-      if (on2.mid[k] - on2.radius[k] > b2.hi[k] + f.tol || on2.mid[k] + on2.radius[k] < b2.lo[k] - f.tol) return true;
-    }
-    return false;
-  }
-
   /// Gap along b1's slab k (k < 9) or b2's slab k - 9.
   S gap(int k) const
   {
@@ -429,18 +443,90 @@ struct PairProjection
 
 }  // namespace detail
 
+namespace detail {
+
+/// The overlap test, compiled once per variant so that the boxed test carries no exact stage.
+template <OverlapTest test, typename S>
+bool overlapTest(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
+{
+  const RelativeFrame<S> f(R, T, b1, b2);
+  const fcl::Matrix3<S>& M = f.M;
+  const fcl::Vector3<S> m2 = M * f.box2.c + f.t;                // b2's box centre in b1's frame
+  const fcl::Vector3<S> m1 = M.transpose() * (f.box1.c - f.t);  // b1's box centre in b2's frame
+  constexpr bool exact_on_1 = test != OverlapTest::kBoxed, exact_on_2 = test == OverlapTest::kTwoSided;
+
+  // Pass 1, boxes only: slab k of b1 (k < 9) or of b2 (k >= 9) against the other's principal box
+  // projected on it (mid +- radius). Apart means separated. Otherwise the other polytope's interval
+  // ends lie within box_excess of the box's, so a side needs an exact support (pass 2) only where
+  // the box overlaps the slab by less than that.
+  // Queue entries are 2 * slab + side (0: the other volume's low end against hi, 1: its high end
+  // against lo), appended without branches: which sides need work is unpredictable.
+  std::uint8_t queued[4 * kNumSlabs + 1];
+  int num_queued = 0;
+  const S excess1 = exact_on_1 ? b2.box_excess : S(0), excess2 = exact_on_2 ? b1.box_excess : S(0);
+  auto boxApart = [&](int k, S mid, S radius) {
+    const bool on_1 = k < kNumSlabs;
+    const int j = on_1 ? k : k - kNumSlabs;
+    const RS<S>& slabs = on_1 ? b1 : b2;
+    const S lo = slabs.lo[j] - f.tol, hi = slabs.hi[j] + f.tol;
+    const S low = mid - radius, high = mid + radius, excess = on_1 ? excess1 : excess2;
+    if (exact_on_1)
+    {
+      queued[num_queued] = std::uint8_t(2 * k);
+      num_queued += low + excess > hi;
+      queued[num_queued] = std::uint8_t(2 * k + 1);
+      num_queued += high - excess < lo;
+    }
+    return low > hi || high < lo;
+  };
+
+  // The six face axes first: most separated pairs are rejected there, as in an OBB test.
+  const fcl::Matrix3<S> A = M.cwiseAbs();
+  const fcl::Vector3<S> r2 = A * f.box2.h, r1 = A.transpose() * f.box1.h;
+  for (int i = 0; i < 3; ++i)
+    if (boxApart(i, m2[i], r2[i]) || boxApart(kNumSlabs + i, m1[i], r1[i])) return false;
+  for (int k = 3; k < kNumSlabs; ++k)
+  {
+    const SlabDirection& d = kSlabDirections[k];
+    const S sign = S(d.sign), scale = S(M_SQRT1_2);
+    const fcl::Vector3<S> e1 = (M.row(d.i) + sign * M.row(d.j)).transpose().cwiseAbs();
+    if (boxApart(k, (m2[d.i] + sign * m2[d.j]) * scale, e1.dot(f.box2.h) * scale)) return false;
+    const fcl::Vector3<S> e2 = (M.col(d.i) + sign * M.col(d.j)).cwiseAbs();
+    if (boxApart(kNumSlabs + k, (m1[d.i] + sign * m1[d.j]) * scale, e2.dot(f.box1.h) * scale)) return false;
+  }
+
+  // Pass 2: exact supports of the other polytope on the queued sides (octant trick).
+  // With sigma = -1 for a low end and +1 for a high end, the other volume is apart when
+  // sigma * shift + support(sigma * e) < sigma * (hi or lo) - tol.
+  for (int q = 0; q < num_queued; ++q)
+  {
+    const int k = queued[q] >> 1, high_end = queued[q] & 1;
+    const bool on_1 = k < kNumSlabs;
+    const int j = on_1 ? k : k - kNumSlabs;
+    const RS<S>& slabs = on_1 ? b1 : b2;
+    const RS<S>& other = on_1 ? b2 : b1;
+    const S sigma = high_end ? S(1) : S(-1);
+    const fcl::Vector3<S> e = sigma * (on_1 ? slabOfRows(M, j) : slabOfColumns(M, j));
+    // Projection of the other volume's frame origin on sigma * e.
+    const S shift = sigma * projectOnSlab(on_1 ? m2 : m1, j) - e.dot(on_1 ? f.box2.c : f.box1.c);
+    const S bound = sigma * (high_end ? slabs.lo[j] : slabs.hi[j]);
+    if (shift + other.support(e) < bound - f.tol) return false;
+  }
+  return true;
+}
+
+}  // namespace detail
+
 template <typename S>
 bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2, OverlapTest test)
 {
   if (b1.empty() || b2.empty()) return false;
-  const detail::PairProjection<S> p(R, T, b1, b2);
-  if (p.boxesSeparated()) return false;
-  if (test == OverlapTest::kBoxed) return true;
-  // One-sided: only b2's polytope on b1's directions, as in the paper.
-  const int slabs = test == OverlapTest::kOneSided ? kNumSlabs : 2 * kNumSlabs;
-  for (int k = 0; k < slabs; ++k)
-    if (p.gap(k) > p.f.tol) return false;
-  return true;
+  switch (test)
+  {
+    case OverlapTest::kOneSided: return detail::overlapTest<OverlapTest::kOneSided>(R, T, b1, b2);
+    case OverlapTest::kBoxed: return detail::overlapTest<OverlapTest::kBoxed>(R, T, b1, b2);
+    default: return detail::overlapTest<OverlapTest::kTwoSided>(R, T, b1, b2);
+  }
 }
 
 template <typename S>
@@ -482,7 +568,8 @@ RS<S> fitPoints(int n, PointAt point_at)
 {
   const PrincipalFrame<S> frame = principalFrame<S>(n, point_at);
   RS<S> bv(frame.axis, frame.mean);
-  for (int i = 0; i < n; ++i) bv += point_at(i);
+  for (int i = 0; i < n; ++i) bv.expandFrame(bv.toFrame(point_at(i)), 0);
+  bv.updateBoxExcess();
   return bv;
 }
 

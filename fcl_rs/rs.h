@@ -31,6 +31,11 @@ public:
   /// Slab intervals along the nine unit directions, in frame coordinates.
   Slabs lo;
   Slabs hi;
+  /// Upper bound on how far the principal box reaches past the polytope along any unit direction.
+  /// Overlap tests use it to skip exact supports wherever the box bound already decides; every
+  /// member that grows the volume keeps it current (call updateBoxExcess() after writing lo/hi
+  /// directly). Too small only costs pruning, never a missed contact: 0 makes the test boxed.
+  S box_excess = 0;
 
   /// Empty volume in the identity frame at the model origin.
   RS();
@@ -81,7 +86,11 @@ public:
   fcl::Vector3<S> toModel(const fcl::Vector3<S>& y) const { return axis * y + origin; }
 
   /// Grows the intervals to contain the frame point y, widened by abs_err (its known rounding error).
+  /// Leaves box_excess stale: call updateBoxExcess() when done growing.
   void expandFrame(const fcl::Vector3<S>& y, S abs_err);
+  /// Recomputes box_excess from the slabs: per corner, the distance from the box corner to the
+  /// nearest of the corner's 4 vertices, maximised over the 8 corners.
+  void updateBoxExcess();
 };
 
 using RSf = RS<float>;
