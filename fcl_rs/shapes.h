@@ -1,9 +1,11 @@
-// Generated triangle meshes (sphere, ellipsoid, box, torus, diamond) for tests, benchmarks and scenes.
+// Generated triangle meshes (sphere, ellipsoid, box, torus, diamond, k-DOP solid) for tests, benchmarks and scenes.
 #ifndef FCL_RS_SHAPES_H
 #define FCL_RS_SHAPES_H
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "fcl_rs/mesh_io.h"
 
@@ -111,6 +113,83 @@ TriangleMesh<S> makeDiamond(S r, S h, int facets = 8)
     m.triangles.emplace_back(0, a, b);
     m.triangles.emplace_back(culet, b, a);
   }
+  return m;
+}
+
+/// The paper's sphere (section 5: 467 vertices, 992 faces). A closed genus-0 triangle mesh has
+/// F = 2V - 4, so no such mesh has 467 vertices and 992 faces; the counts are those of a UV sphere
+/// exported with quads at the poles, as modelling tools write it: makeSphere(radius, stacks, slices)
+/// plus, for every polar quad (whose two pole corners coincide), the zero-area second triangle
+/// (pole, ring vertex, pole). Those 2*slices extra triangles lie on edges of the real ones, so they
+/// change neither the surface nor which meshes intersect. The defaults (16, 31) give 467 / 992.
+template <typename S>
+TriangleMesh<S> makePoleQuadSphere(S radius, int stacks = 16, int slices = 31)
+{
+  TriangleMesh<S> m = makeSphere<S>(radius, stacks, slices);
+  const std::size_t bottom = m.vertices.size() - 1;
+  const auto ring = [slices](int i, int j) { return std::size_t(1 + (i - 1) * slices + (j % slices)); };
+  for (int j = 0; j < slices; ++j)
+  {
+    m.triangles.emplace_back(0, ring(1, j + 1), 0);
+    m.triangles.emplace_back(bottom, ring(stacks - 1, j), bottom);
+  }
+  return m;
+}
+
+/// A k-DOP-shaped solid: the 18-DOP (slabs x, y, z, x+-y, x+-z, y+-z) of the box with half extents
+/// (hx, hy, hz) whose 12 edges are cut off by the planes |x|+|y| = hx+hy-c (and likewise for xz, yz),
+/// 0 < c < min(hx, hy, hz). Its 6 rectangles and 12 hexagons meet at 32 vertices (4 per corner, the
+/// Tribox "triple point inside" configuration); 60 outward-facing triangles.
+template <typename S>
+TriangleMesh<S> makeKdop18Solid(S hx, S hy, S hz, S c)
+{
+  if (!(c > 0 && c < std::min(hx, std::min(hy, hz))))
+    throw std::invalid_argument("fcl_rs::makeKdop18Solid: need 0 < chamfer < every half extent");
+  const fcl::Vector3<S> h(hx, hy, hz);
+  TriangleMesh<S> m;
+  // Vertex (octant, kind): kind a < 3 lies on the face x_a = +-h_a, kind 3 is the chamfers' triple point.
+  for (int octant = 0; octant < 8; ++octant)
+    for (int kind = 0; kind < 4; ++kind)
+    {
+      fcl::Vector3<S> v;
+      for (int a = 0; a < 3; ++a)
+        v[a] = ((octant >> a) & 1 ? -1 : 1) * (kind == 3 ? h[a] - c / 2 : kind == a ? h[a] : h[a] - c);
+      m.vertices.push_back(v);
+    }
+  const auto at = [](int sign0, int sign1, int sign2, int kind) {
+    return std::size_t(4 * ((sign0 < 0) | (sign1 < 0) << 1 | (sign2 < 0) << 2) + kind);
+  };
+  // Signs along axes (a, b, e) written into x, y, z order.
+  const auto vertex = [&at](int a, int b, int e, int sa, int sb, int se, int kind) {
+    int s[3];
+    s[a] = sa; s[b] = sb; s[e] = se;
+    return at(s[0], s[1], s[2], kind);
+  };
+  std::vector<std::vector<std::size_t>> faces;
+  for (int a = 0; a < 3; ++a)
+  {
+    const int b = (a + 1) % 3, e = (a + 2) % 3;
+    for (int sa : {1, -1})
+    {
+      // Rectangle on x_a = sa * h_a.
+      faces.push_back({vertex(a, b, e, sa, 1, 1, a), vertex(a, b, e, sa, 1, -1, a), vertex(a, b, e, sa, -1, -1, a),
+                       vertex(a, b, e, sa, -1, 1, a)});
+      // Hexagon on the chamfer of the edge along e between the faces of a and b.
+      for (int sb : {1, -1})
+        faces.push_back({vertex(a, b, e, sa, sb, 1, a), vertex(a, b, e, sa, sb, 1, 3), vertex(a, b, e, sa, sb, 1, b),
+                         vertex(a, b, e, sa, sb, -1, b), vertex(a, b, e, sa, sb, -1, 3), vertex(a, b, e, sa, sb, -1, a)});
+    }
+  }
+  // Fan triangulation; the solid is convex about the origin, so outward means normal . centroid > 0.
+  for (const auto& f : faces)
+    for (std::size_t i = 1; i + 1 < f.size(); ++i)
+    {
+      const fcl::Vector3<S>&p = m.vertices[f[0]], &q = m.vertices[f[i]], &r = m.vertices[f[i + 1]];
+      if ((q - p).cross(r - p).dot(p + q + r) > 0)
+        m.triangles.emplace_back(f[0], f[i], f[i + 1]);
+      else
+        m.triangles.emplace_back(f[0], f[i + 1], f[i]);
+    }
   return m;
 }
 
