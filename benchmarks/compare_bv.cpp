@@ -4,7 +4,7 @@
 // BV and triangle tests per query, colliding share and colliding-verdict disagreements with RS
 // (resolved by a brute-force triangle-pair test). Then RS/OBBRSS ratios per pair and their median.
 
-#include <fcl_rs/fcl_rs.h>
+#include "bench_common.h"
 
 #include <fcl/config.h>
 #include <fcl/math/bv/AABB.h>
@@ -14,37 +14,24 @@
 #include <fcl/math/bv/kDOP.h>
 #include <fcl/math/bv/kIOS.h>
 #include <fcl/narrowphase/detail/traversal/collision/intersect.h>
-#include <fcl/narrowphase/detail/traversal/collision/mesh_collision_traversal_node.h>
-#include <fcl/narrowphase/detail/traversal/collision_node.h>
-
-#include <sched.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <functional>
 #include <limits>
 #include <memory>
-#include <random>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <type_traits>
 #include <vector>
 
 namespace {
 
-using S = double;
-using Mesh = fcl_rs::TriangleMesh<S>;
-using Clock = std::chrono::steady_clock;
-using fcl::Transform3d;
-using fcl::Vector3d;
+using namespace fcl_rs::bench;
 
 constexpr int kDefaultQueries = 200;
 constexpr int kCalibrationPoses = 200;
@@ -103,23 +90,6 @@ void printHelp()
       kDefaultQueries, 100 * kTargetCollidingShare, kRebuildPoses);
 }
 
-unsigned long long number(const std::string& option, const std::string& text)
-{
-  std::size_t used = 0;
-  unsigned long long n = 0;
-  try
-  {
-    n = std::stoull(text, &used);
-  }
-  catch (const std::exception&)
-  {
-    used = 0;
-  }
-  if (used == 0 || used != text.size() || text[0] == '-')
-    throw std::invalid_argument(option + " needs a non-negative integer, not '" + text + "'");
-  return n;
-}
-
 void parseOptions(int argc, char** argv, Options& opt)
 {
   for (int i = 1; i < argc; ++i)
@@ -158,29 +128,6 @@ void parseOptions(int argc, char** argv, Options& opt)
 }
 
 // ---------------------------------------------------------------------------------------------------
-// Machine description
-
-// Like nproc: the CPUs this process may run on.
-int onlineCpus()
-{
-  cpu_set_t set;
-  return sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : int(std::thread::hardware_concurrency());
-}
-
-std::string cpuModel()
-{
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0)
-    {
-      const auto colon = line.find(':');
-      return colon == std::string::npos ? line : line.substr(colon + 2);
-    }
-  return "unknown";
-}
-
-// ---------------------------------------------------------------------------------------------------
 // Inputs
 
 struct MeshPair
@@ -188,14 +135,6 @@ struct MeshPair
   std::string name;
   Mesh a, b;
 };
-
-std::string baseName(const std::string& path)
-{
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-bool fileExists(const std::string& path) { return std::ifstream(path).good(); }
 
 std::vector<MeshPair> defaultPairs()
 {
@@ -241,151 +180,6 @@ std::vector<MeshPair> filePairs(const Options& opt)
 }
 
 // ---------------------------------------------------------------------------------------------------
-// Random poses
-
-class Random
-{
-public:
-  explicit Random(std::uint64_t seed) : engine_(seed) {}
-  // 53 random bits, so the sequence does not depend on the standard library's distributions.
-  double uniform() { return double(engine_() >> 11) * 0x1.0p-53; }
-
-private:
-  std::mt19937_64 engine_;
-};
-
-// Shoemake, "Uniform random rotations", Graphics Gems III.
-fcl::Matrix3d randomRotation(Random& rng)
-{
-  const double u1 = rng.uniform(), u2 = 2 * M_PI * rng.uniform(), u3 = 2 * M_PI * rng.uniform();
-  const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
-  return fcl::Quaterniond(b * std::cos(u3), a * std::sin(u2), a * std::cos(u2), b * std::sin(u3)).toRotationMatrix();
-}
-
-Vector3d randomInUnitBall(Random& rng)
-{
-  for (;;)
-  {
-    const Vector3d p(2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1);
-    if (p.squaredNorm() <= 1) return p;
-  }
-}
-
-struct Sphere
-{
-  Vector3d center;
-  double radius;
-};
-
-// Centre of the bounding box and the radius of the ball around it holding every vertex.
-Sphere boundingSphere(const Mesh& m)
-{
-  Vector3d lo = m.vertices.front(), hi = lo;
-  for (const auto& v : m.vertices)
-  {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  Sphere s{(lo + hi) / 2, 0};
-  for (const auto& v : m.vertices) s.radius = std::max(s.radius, (v - s.center).norm());
-  return s;
-}
-
-struct PoseSample
-{
-  fcl::Matrix3d r1, r2;
-  Vector3d offset;  // in the unit ball
-};
-
-struct Pose
-{
-  Transform3d tf1, tf2;
-};
-
-std::vector<PoseSample> samplePoses(std::size_t n, std::uint64_t seed)
-{
-  Random rng(seed);
-  std::vector<PoseSample> samples(n);
-  for (auto& s : samples)
-  {
-    s.r1 = randomRotation(rng);
-    s.r2 = randomRotation(rng);
-    s.offset = randomInUnitBall(rng);
-  }
-  return samples;
-}
-
-// Mesh a's centre at the origin, mesh b's centre at scale * (ra + rb) * offset.
-std::vector<Pose> posesAt(const std::vector<PoseSample>& samples, const Sphere& sa, const Sphere& sb, double scale)
-{
-  std::vector<Pose> poses(samples.size());
-  for (std::size_t i = 0; i < samples.size(); ++i)
-  {
-    const PoseSample& s = samples[i];
-    Pose& p = poses[i];
-    p.tf1.setIdentity();
-    p.tf1.linear() = s.r1;
-    p.tf1.translation() = -(s.r1 * sa.center);
-    p.tf2.setIdentity();
-    p.tf2.linear() = s.r2;
-    p.tf2.translation() = scale * (sa.radius + sb.radius) * s.offset - s.r2 * sb.center;
-  }
-  return poses;
-}
-
-fcl::CollisionRequest<S> exhaustiveRequest()
-{
-  return fcl::CollisionRequest<S>(std::numeric_limits<std::size_t>::max(), false);
-}
-
-fcl::CollisionRequest<S> firstContactRequest() { return fcl::CollisionRequest<S>(1, false); }
-
-// Translation scale giving about the target colliding share on the first calibration poses. The share
-// is not monotone in the scale (hollow or sparse meshes such as FCL's env are free near their centre),
-// so the scan runs from far to near and refines the first crossing by bisection.
-double calibrateScale(const fcl::BVHModel<fcl_rs::RSd>& ma, const fcl::BVHModel<fcl_rs::RSd>& mb,
-                      const std::vector<PoseSample>& samples, const Sphere& sa, const Sphere& sb)
-{
-  const std::vector<PoseSample> head(samples.begin(),
-                                     samples.begin() + std::min<std::ptrdiff_t>(kCalibrationPoses, samples.size()));
-  const auto share = [&](double scale) {
-    int hits = 0;
-    for (const Pose& p : posesAt(head, sa, sb, scale))
-    {
-      fcl::CollisionResult<S> result;
-      fcl_rs::collideWithStats(ma, p.tf1, mb, p.tf2, firstContactRequest(), result);
-      hits += result.isCollision();
-    }
-    return double(hits) / double(head.size());
-  };
-  constexpr int kSteps = 20;
-  constexpr double kFar = 2.0;
-  double far = kFar, best_scale = kFar, best_share = share(kFar);
-  if (best_share >= kTargetCollidingShare) return kFar;
-  for (int step = kSteps - 1; step >= 0; --step)
-  {
-    double near = kFar * step / kSteps;
-    const double s = share(near);
-    if (s >= kTargetCollidingShare)
-    {
-      for (int i = 0; i < 8; ++i)
-      {
-        const double mid = (near + far) / 2;
-        (share(mid) >= kTargetCollidingShare ? near : far) = mid;
-      }
-      return near;
-    }
-    if (s > best_share)
-    {
-      best_share = s;
-      best_scale = near;
-    }
-    far = near;
-  }
-  return best_scale;
-}
-
-// ---------------------------------------------------------------------------------------------------
 // Brute force: every triangle pair, with FCL's triangle test on b mapped into a's frame by (R, T), as the
 // local-frame leaves call it; triangle boxes only skip pairs that are clearly apart.
 
@@ -425,28 +219,6 @@ bool bruteForceCollide(const Mesh& a, const Mesh& b, const Pose& pose)
 }
 
 // ---------------------------------------------------------------------------------------------------
-// Timing
-
-// Shortest duration of one call of pass() over repeated calls: at least min_passes of them, and more
-// until min_seconds have elapsed. The minimum is the measure least disturbed by other load.
-double bestSeconds(const std::function<void()>& pass, double min_seconds, int min_passes)
-{
-  double best = std::numeric_limits<double>::max(), total = 0;
-  for (int passes = 0; passes < min_passes || total < min_seconds; ++passes)
-  {
-    const auto start = Clock::now();
-    pass();
-    const double t = std::chrono::duration<double>(Clock::now() - start).count();
-    best = std::min(best, t);
-    total += t;
-  }
-  return best;
-}
-
-// Sink for query results, so that no timed call can be dropped as unused.
-volatile std::size_t g_sink = 0;
-
-// ---------------------------------------------------------------------------------------------------
 // Measurements
 
 struct Row
@@ -471,31 +243,6 @@ struct Disagreement
   std::string bv, path;
   std::size_t pose;
   bool rs_all, rs_first, other_all, other_first;
-};
-
-class Progress
-{
-public:
-  explicit Progress(std::size_t num_pairs) : num_pairs_(num_pairs), tty_(isatty(STDERR_FILENO)) {}
-  void pair(std::size_t index, const std::string& name)
-  {
-    index_ = index;
-    name_ = name;
-    if (!tty_) std::fprintf(stderr, "[%zu/%zu] %s\n", index_ + 1, num_pairs_, name_.c_str());
-  }
-  void stage(const std::string& what)
-  {
-    if (tty_) std::fprintf(stderr, "\r\033[K[%zu/%zu] %s: %s", index_ + 1, num_pairs_, name_.c_str(), what.c_str());
-  }
-  void done()
-  {
-    if (tty_) std::fprintf(stderr, "\r\033[K");
-  }
-
-private:
-  std::size_t num_pairs_, index_ = 0;
-  std::string name_;
-  bool tty_;
 };
 
 struct Context
@@ -611,26 +358,6 @@ Row measureLocal(const Context& ctx, const std::string& name, Verdicts& v,
   return row;
 }
 
-std::vector<Vector3d> transformedVertices(const Mesh& m, const Transform3d& tf)
-{
-  std::vector<Vector3d> out(m.vertices.size());
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = tf * m.vertices[i];
-  return out;
-}
-
-// Traversal of two world-frame trees (identity transforms: FCL's initialize then leaves them alone).
-template <typename BV>
-fcl_rs::QueryStats collideWorldTrees(fcl::BVHModel<BV>& wa, fcl::BVHModel<BV>& wb,
-                                     const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
-{
-  Transform3d i1 = Transform3d::Identity(), i2 = Transform3d::Identity();
-  fcl::detail::MeshCollisionTraversalNode<BV> node;
-  fcl::detail::initialize(node, wa, i1, wb, i2, request, result);
-  node.enable_statistics = true;
-  fcl::detail::collide(&node);
-  return {node.num_bv_tests, node.num_leaf_tests};
-}
-
 // AABB, KDOPs: traversal of world-frame trees prebuilt outside the timer, and FCL's own path, which
 // copies both models and rebuilds them in the world frame inside every query.
 template <typename BV>
@@ -719,16 +446,6 @@ std::vector<Row> measureWorld(const Context& ctx, const std::string& name)
 // ---------------------------------------------------------------------------------------------------
 // Output
 
-std::string fixed(double x, int decimals)
-{
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, x);
-  return buf;
-}
-
-// Three significant digits or so, for times spanning 1 µs to 10 ms.
-std::string timeText(double us) { return fixed(us, us < 10 ? 2 : us < 100 ? 1 : 0); }
-
 void printTableHeader()
 {
   std::printf("  %-7s %-12s %9s %10s %10s %9s %9s %9s %7s %8s\n", "BV", "path", "build ms", "us/q all",
@@ -755,29 +472,17 @@ void writeCsv(const std::string& path, const std::vector<Row>& rows)
         << r.contacts << ',' << r.colliding << ',' << std::max(r.disagreements, 0) << '\n';
 }
 
-double median(std::vector<double> v)
-{
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
-}
-
 struct Ratios
 {
   std::string pair;
   double build, us_all, us_first, bv_tests, leaf_tests;
 };
 
-// NaN when the reference is 0 (e.g. no triangle tests at all); printed as "-" and left out of medians.
-double ratio(double a, double b) { return b > 0 ? a / b : std::numeric_limits<double>::quiet_NaN(); }
-
 Ratios ratios(const Row& rs, const Row& ref)
 {
   return {rs.pair, ratio(rs.build_ms, ref.build_ms), ratio(rs.us_all, ref.us_all),
           ratio(rs.us_first, ref.us_first), ratio(rs.bv_tests, ref.bv_tests), ratio(rs.leaf_tests, ref.leaf_tests)};
 }
-
-std::string ratioText(double r) { return std::isnan(r) ? "-" : fixed(r, 3); }
 
 void printRatios(const std::vector<Ratios>& all)
 {
@@ -808,7 +513,7 @@ const char* verdictText(bool colliding) { return colliding ? "collide" : "free";
 std::vector<Row> runPair(const MeshPair& pair, std::size_t index, const Options& opt, Progress& progress,
                          Ratios& ratio)
 {
-  progress.pair(index, pair.name);
+  progress.item(index, pair.name);
   progress.stage("calibrating poses");
   const Sphere sa = boundingSphere(pair.a), sb = boundingSphere(pair.b);
   const auto samples = samplePoses(std::size_t(opt.queries), opt.seed * 1000003u + index);
@@ -816,7 +521,7 @@ std::vector<Row> runPair(const MeshPair& pair, std::size_t index, const Options&
   {
     const auto ma = fcl_rs::buildModel<fcl_rs::RSd>(pair.a);
     const auto mb = fcl_rs::buildModel<fcl_rs::RSd>(pair.b);
-    scale = calibrateScale(*ma, *mb, samples, sa, sb);
+    scale = calibrateScale(*ma, *mb, samples, sa, sb, kTargetCollidingShare, kCalibrationPoses);
   }
   const std::vector<Pose> poses = posesAt(samples, sa, sb, scale);
 
