@@ -1,0 +1,558 @@
+// Robots: URDF loading, forward kinematics against hand-computed poses, SRDF, and self-collision that every BV
+// type and a brute-force triangle loop agree on; bad input gets errors naming the file and element.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "fcl_rs/robot.h"
+#include "test_util.h"
+
+namespace fcl_rs {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string messageOf(const std::function<void()>& f)
+{
+  try
+  {
+    f();
+  }
+  catch (const std::exception& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+
+/// Expects f to throw a message holding every one of `parts`.
+void expectError(const std::function<void()>& f, const std::vector<std::string>& parts)
+{
+  const std::string msg = messageOf(f);
+  ASSERT_FALSE(msg.empty()) << "no exception";
+  for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' not in: " << msg;
+}
+
+void writeFile(const fs::path& path, const std::string& text)
+{
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+void writeStl(const fs::path& path, const TriangleMesh<double>& m)
+{
+  std::ostringstream out;
+  out << "solid generated\n";
+  for (const auto& t : m.triangles)
+  {
+    out << " facet normal 0 0 0\n  outer loop\n";
+    for (int c = 0; c < 3; ++c)
+      out << "   vertex " << m.vertices[t[c]].x() << " " << m.vertices[t[c]].y() << " " << m.vertices[t[c]].z() << "\n";
+    out << "  endloop\n endfacet\n";
+  }
+  out << "endsolid generated\n";
+  writeFile(path, out.str());
+}
+
+void writeObj(const fs::path& path, const TriangleMesh<double>& m)
+{
+  std::ostringstream out;
+  for (const auto& v : m.vertices) out << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
+  for (const auto& t : m.triangles) out << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+  writeFile(path, out.str());
+}
+
+/// A robot written by the test into TMP/testbot_description: every joint type (a mimic too), a link without
+/// geometry between two that have some, meshes by relative path, package:// and file://, a scaled OBJ.
+///
+///   base --j0 fixed--> column --j1 revolute--> arm --j2 continuous--> forearm --j3 prismatic--> slider
+///   forearm --j4 prismatic, mimics j3 (x -2, +0.05)--> finger;  slider --j5 fixed--> tool --j6 fixed--> tip
+constexpr const char* kTestbotUrdf = R"(<?xml version="1.0"?>
+<robot name="testbot">
+  <link name="base">
+    <collision><origin xyz="0 0 0.1"/><geometry><mesh filename="file://BASE_STL"/></geometry></collision>
+  </link>
+  <link name="column">
+    <collision><origin xyz="0 0 -0.45"/><geometry><cylinder radius="0.08" length="0.8"/></geometry></collision>
+  </link>
+  <link name="arm">
+    <collision><origin xyz="0.5 0 0"/><geometry><mesh filename="../meshes/arm.obj" scale="2 1 1"/></geometry></collision>
+  </link>
+  <link name="forearm">
+    <collision><origin xyz="0.8 0 0"/><geometry><mesh filename="package://testbot_description/meshes/forearm.stl"/></geometry></collision>
+  </link>
+  <link name="slider">
+    <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+    <collision><origin xyz="0.05 0 0"/><geometry><sphere radius="0.05"/></geometry></collision>
+  </link>
+  <link name="finger">
+    <collision><geometry><box size="0.02 0.1 0.02"/></geometry></collision>
+  </link>
+  <link name="tool"/>
+  <link name="tip">
+    <collision><geometry><sphere radius="0.04"/></geometry></collision>
+  </link>
+  <joint name="j0" type="fixed">
+    <parent link="base"/><child link="column"/><origin xyz="0 0 1" rpy="0 0 1.5707963267948966"/>
+  </joint>
+  <joint name="j1" type="revolute">
+    <parent link="column"/><child link="arm"/><origin xyz="1 0 0"/><axis xyz="0 0 2"/>
+    <limit lower="-1.5" upper="2.0" effort="1" velocity="1"/>
+  </joint>
+  <joint name="j2" type="continuous">
+    <parent link="arm"/><child link="forearm"/><origin xyz="0 0 0.5" rpy="1.5707963267948966 0 0"/><axis xyz="0 0 1"/>
+  </joint>
+  <joint name="j3" type="prismatic">
+    <parent link="forearm"/><child link="slider"/><origin xyz="0.2 0 0"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="0.3" effort="1" velocity="1"/>
+  </joint>
+  <joint name="j4" type="prismatic">
+    <parent link="forearm"/><child link="finger"/><origin xyz="0 0.1 0"/><axis xyz="0 1 0"/>
+    <limit lower="-0.6" upper="0.6" effort="1" velocity="1"/><mimic joint="j3" multiplier="-2" offset="0.05"/>
+  </joint>
+  <joint name="j5" type="fixed"><parent link="slider"/><child link="tool"/><origin xyz="0.1 0 0"/></joint>
+  <joint name="j6" type="fixed"><parent link="tool"/><child link="tip"/><origin xyz="0.1 0 0"/></joint>
+</robot>
+)";
+
+/// Writes the test robot (and its meshes) under a fresh temporary directory; returns the URDF path.
+std::string writeTestbot(const std::string& urdf_text = kTestbotUrdf)
+{
+  static int count = 0;
+  const fs::path root = fs::path(::testing::TempDir()) / ("fcl_rs_robot_" + std::to_string(::getpid()) + "_" +
+                                                          std::to_string(count++)) / "testbot_description";
+  fs::remove_all(root);
+  writeStl(root / "meshes" / "base.stl", makeBox<double>(3, 3, 0.2));  // a floor plate the forearm can hit
+  writeObj(root / "meshes" / "arm.obj", makeEllipsoid<double>(0.25, 0.08, 0.08, 8, 16));
+  writeStl(root / "meshes" / "forearm.stl", makeBox<double>(1.6, 0.1, 0.1));
+  std::string text = urdf_text;
+  const auto at = text.find("BASE_STL");
+  if (at != std::string::npos) text.replace(at, 8, (root / "meshes" / "base.stl").string());
+  writeFile(root / "urdf" / "testbot.urdf", text);
+  return (root / "urdf" / "testbot.urdf").string();
+}
+
+/// panda or ur5 from ../shared/data, loaded once; nullptr (logged) when the folder is absent.
+const RobotModel* sharedRobot(const std::string& name)
+{
+  static std::map<std::string, std::unique_ptr<RobotModel>> cache;
+  auto it = cache.find(name);
+  if (it == cache.end())
+  {
+    const std::string urdf = test::sharedData("robots/" + name + "/" + name + ".urdf");
+    if (urdf.empty()) std::cout << "[robot] ../shared/data/robots/" << name << " is absent\n";
+    it = cache.emplace(name, urdf.empty() ? nullptr : std::make_unique<RobotModel>(loadUrdf(urdf))).first;
+  }
+  return it->second.get();
+}
+
+std::vector<DisabledCollision> sharedSrdf(const RobotModel& robot)
+{
+  return loadDisabledCollisions(test::sharedData("robots/" + robot.name + "/" + robot.name + ".srdf"), robot);
+}
+
+fcl::Vector3d worldPoint(const std::vector<fcl::Transform3d>& poses, const RobotModel& robot, const std::string& link,
+                         const fcl::Vector3d& p)
+{
+  return poses.at(robot.linkIndex(link)) * p;
+}
+
+TEST(RobotModel, LoadsTheTestRobot)
+{
+  const RobotModel robot = loadUrdf(writeTestbot());
+  EXPECT_EQ(robot.name, "testbot");
+  ASSERT_EQ(robot.links.size(), 8u);
+  EXPECT_EQ(robot.links[0].name, "base");
+  for (std::size_t i = 1; i < robot.links.size(); ++i)  // tree order: a parent comes first
+    EXPECT_LT(robot.joints[robot.links[i].parent_joint].parent_link, int(i));
+  ASSERT_EQ(robot.numVariables(), 3);  // j1, j2, j3; j4 mimics j3
+  EXPECT_EQ(robot.joints[robot.variable_joints[0]].name, "j1");
+  EXPECT_EQ(robot.joints[robot.variable_joints[2]].name, "j3");
+  const RobotJoint& j1 = robot.joints[robot.variable_joints[0]];
+  EXPECT_EQ(j1.type, JointType::kRevolute);
+  EXPECT_TRUE(j1.axis.isApprox(fcl::Vector3d::UnitZ()));  // "0 0 2" normalised
+  EXPECT_EQ(j1.lower, -1.5);
+  EXPECT_EQ(j1.upper, 2.0);
+
+  // The scaled OBJ: an ellipsoid of semi-axes 0.25, 0.08, 0.08 scaled by (2, 1, 1) and moved 0.5 along x.
+  const RobotLink& arm = robot.links[robot.linkIndex("arm")];
+  fcl::Vector3d lo = arm.mesh.vertices[0], hi = lo;
+  for (const auto& v : arm.mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  EXPECT_NEAR(lo.x(), 0.0, 1e-9);
+  EXPECT_NEAR(hi.x(), 1.0, 1e-9);
+  EXPECT_NEAR(hi.y(), 0.08, 1e-3);
+  EXPECT_TRUE(arm.primitives.empty());
+
+  const RobotLink& slider = robot.links[robot.linkIndex("slider")];
+  EXPECT_TRUE(slider.mesh.triangles.empty());
+  ASSERT_EQ(slider.primitives.size(), 2u);
+  EXPECT_EQ(slider.primitives[0].type, Primitive::Type::kBox);
+  EXPECT_EQ(slider.primitives[1].type, Primitive::Type::kSphere);
+  EXPECT_TRUE(slider.primitives[1].origin.translation().isApprox(fcl::Vector3d(0.05, 0, 0)));
+  const RobotLink& column = robot.links[robot.linkIndex("column")];
+  ASSERT_EQ(column.primitives.size(), 1u);
+  EXPECT_EQ(column.primitives[0].type, Primitive::Type::kCylinder);
+  EXPECT_TRUE(column.primitives[0].size.isApprox(fcl::Vector3d(0.08, 0.8, 0)));
+  EXPECT_FALSE(robot.links[robot.linkIndex("tool")].hasGeometry());
+  EXPECT_EQ(robot.links[robot.linkIndex("base")].mesh.triangles.size(), 12u);
+}
+
+TEST(RobotModel, ResolvesMeshPaths)
+{
+  const std::string urdf = "/x/my_pkg/urdf/r.urdf";
+  EXPECT_EQ(resolveMeshPath("m.stl", urdf), "/x/my_pkg/urdf/m.stl");
+  EXPECT_EQ(resolveMeshPath("../meshes/m.stl", urdf), "/x/my_pkg/meshes/m.stl");
+  EXPECT_EQ(resolveMeshPath("/abs/m.stl", urdf), "/abs/m.stl");
+  EXPECT_EQ(resolveMeshPath("file:///abs/m.stl", urdf), "/abs/m.stl");
+  EXPECT_EQ(resolveMeshPath("package://my_pkg/meshes/m.stl", urdf), "/x/my_pkg/meshes/m.stl");
+  expectError([&] { resolveMeshPath("package://no_such_pkg/m.stl", urdf); }, {"no_such_pkg"});
+}
+
+template <typename S>
+class Kinematic : public ::testing::Test
+{
+};
+TYPED_TEST_SUITE(Kinematic, test::Scalars);
+
+/// Poses worked out by hand from the URDF (see the diagram above kTestbotUrdf), checked through points.
+TYPED_TEST(Kinematic, MatchesHandComputedPoses)
+{
+  using S = TypeParam;
+  const RobotModel robot = loadUrdf(writeTestbot());
+  const Kinematics<S> kin(robot);
+  const double tol = std::is_same<S, float>::value ? 2e-6 : 1e-12;
+  auto poses = [&](double q1, double q2, double q3) {
+    fcl::VectorX<S> q(3);
+    q << S(q1), S(q2), S(q3);
+    std::vector<fcl::Transform3d> out;
+    for (const auto& p : kin.linkPoses(q)) out.push_back(p.template cast<double>());
+    return out;
+  };
+  auto expectPoint = [&](const std::vector<fcl::Transform3d>& p, const std::string& link, const fcl::Vector3d& local,
+                         const fcl::Vector3d& expected) {
+    EXPECT_LT((worldPoint(p, robot, link, local) - expected).norm(), tol)
+        << link << " point " << local.transpose() << " -> " << worldPoint(p, robot, link, local).transpose()
+        << ", expected " << expected.transpose();
+  };
+
+  // q = 0. Fixed j0: column = Rz(90 deg) at (0,0,1); revolute j1 at (1,0,0) of column = world (0,1,1).
+  auto p = poses(0, 0, 0);
+  expectPoint(p, "base", {1, 2, 3}, {1, 2, 3});
+  expectPoint(p, "column", {0, 0, 0}, {0, 0, 1});
+  expectPoint(p, "column", {1, 0, 0}, {0, 1, 1});
+  expectPoint(p, "arm", {0, 0, 0}, {0, 1, 1});
+  expectPoint(p, "arm", {1, 0, 0}, {0, 2, 1});
+
+  // Revolute j1 at +90 deg about z: the arm's x axis turns from world +y to world -x.
+  p = poses(M_PI / 2, 0, 0);
+  expectPoint(p, "arm", {1, 0, 0}, {-1, 1, 1});
+  // Continuous j2: origin 0.5 up the arm's z, rolled 90 deg about x, so it turns about the arm's -y axis.
+  expectPoint(p, "forearm", {0, 0, 0}, {0, 1, 1.5});
+  expectPoint(p, "forearm", {1, 0, 0}, {-1, 1, 1.5});
+  expectPoint(p, "forearm", {0, 0, 1}, {0, 2, 1.5});
+  p = poses(M_PI / 2, M_PI / 2, 0);
+  expectPoint(p, "forearm", {1, 0, 0}, {0, 1, 2.5});  // forearm x is world +z
+  expectPoint(p, "forearm", {0, 1, 0}, {1, 1, 1.5});  // forearm y is world +x
+
+  // Prismatic j3 slides 0.2 + q3 along forearm x; mimic j4 moves -2 q3 + 0.05 along forearm y from y = 0.1.
+  p = poses(M_PI / 2, M_PI / 2, 0.1);
+  expectPoint(p, "slider", {0, 0, 0}, {0, 1, 1.8});
+  expectPoint(p, "finger", {0, 0, 0}, {-0.05, 1, 1.5});
+  // Fixed j5 and j6 chain 0.1 + 0.1 along the slider's x (world +z) through the geometry-less tool.
+  expectPoint(p, "tool", {0, 0, 0}, {0, 1, 1.9});
+  expectPoint(p, "tip", {0, 0, 0}, {0, 1, 2.0});
+
+  // Every pose stays a rigid transform.
+  for (const auto& tf : poses(1.1, -2.7, 0.25))
+    EXPECT_LT((tf.linear() * tf.linear().transpose() - fcl::Matrix3d::Identity()).norm(), 10 * tol);
+
+  EXPECT_THROW(kin.linkPoses(fcl::VectorX<S>::Zero(2)), std::invalid_argument);
+  fcl::VectorX<S> bad = fcl::VectorX<S>::Zero(3);
+  bad[1] = std::numeric_limits<S>::quiet_NaN();
+  EXPECT_THROW(kin.linkPoses(bad), std::invalid_argument);
+}
+
+TYPED_TEST(Kinematic, RandomConfigurationsRespectLimits)
+{
+  using S = TypeParam;
+  std::vector<const RobotModel*> robots;
+  const RobotModel testbot = loadUrdf(writeTestbot());
+  robots.push_back(&testbot);
+  for (const char* name : {"panda", "ur5"})
+    if (const RobotModel* r = sharedRobot(name)) robots.push_back(r);
+  for (const RobotModel* robot : robots)
+  {
+    const Kinematics<S> kin(*robot);
+    ASSERT_EQ(kin.numVariables(), robot->numVariables());
+    for (int v = 0; v < kin.numVariables(); ++v)
+    {
+      const RobotJoint& j = robot->joints[robot->variable_joints[v]];
+      if (j.type == JointType::kContinuous)
+      {
+        EXPECT_EQ(kin.lower()[v], S(-M_PI));
+        EXPECT_EQ(kin.upper()[v], S(M_PI));
+      }
+      else
+      {
+        EXPECT_EQ(kin.lower()[v], S(j.lower)) << j.name;
+        EXPECT_EQ(kin.upper()[v], S(j.upper)) << j.name;
+      }
+    }
+    auto rng = test::seededRng("RandomConfigurationsRespectLimits " + robot->name);
+    fcl::VectorX<S> lo = kin.upper(), hi = kin.lower();
+    for (int i = 0; i < 2000; ++i)
+    {
+      const fcl::VectorX<S> q = kin.randomConfiguration(rng);
+      ASSERT_TRUE(kin.withinLimits(q)) << robot->name << ": " << q.transpose();
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    // Uniform draws come close to both ends of every range.
+    const fcl::VectorX<S> range = kin.upper() - kin.lower();
+    EXPECT_TRUE(((lo - kin.lower()).array() <= S(0.01) * range.array()).all()) << robot->name;
+    EXPECT_TRUE(((kin.upper() - hi).array() <= S(0.01) * range.array()).all()) << robot->name;
+    fcl::VectorX<S> outside = kin.lower();
+    outside[0] -= S(0.01);
+    EXPECT_FALSE(kin.withinLimits(outside));
+  }
+}
+
+TEST(RobotKinematics, PandaMimicFingerAndKnownPose)
+{
+  const RobotModel* panda = sharedRobot("panda");
+  if (!panda) GTEST_SKIP() << "../shared/data/robots/panda is absent";
+  const Kinematics<double> kin(*panda);
+  ASSERT_EQ(kin.numVariables(), 8);  // seven arm joints and finger_joint1; finger_joint2 mimics it
+  // At q = 0 the Panda stands straight up: flange 0.333 + 0.316 + 0.384 - 0.107 high, 0.088 forward.
+  fcl::VectorX<double> q = fcl::VectorX<double>::Zero(8);
+  q[7] = 0.03;
+  const auto poses = kin.linkPoses(q);
+  const fcl::Vector3d flange = poses[panda->linkIndex("panda_link8")].translation();
+  EXPECT_LT((flange - fcl::Vector3d(0.088, 0, 0.333 + 0.316 + 0.384 - 0.107)).norm(), 1e-9) << flange.transpose();
+  // Both fingers open 0.03 to either side of the hand (mimic, axis 0 -1 0 for the right one).
+  const fcl::Vector3d left = poses[panda->linkIndex("panda_leftfinger")].translation();
+  const fcl::Vector3d right = poses[panda->linkIndex("panda_rightfinger")].translation();
+  EXPECT_NEAR((left - right).norm(), 0.06, 1e-9);
+}
+
+TEST(Srdf, ReadsDisabledPairs)
+{
+  const RobotModel* panda = sharedRobot("panda");
+  if (!panda) GTEST_SKIP() << "../shared/data/robots/panda is absent";
+  const auto disabled = sharedSrdf(*panda);
+  EXPECT_EQ(disabled.size(), 35u);  // as SOURCES.md counts
+  EXPECT_EQ(disabled[0].link1, "panda_hand");
+  EXPECT_EQ(disabled[0].link2, "panda_leftfinger");
+  EXPECT_EQ(disabled[0].reason, "Adjacent");
+  EXPECT_NE(disabled[0].source.find("panda.srdf:"), std::string::npos);
+  if (const RobotModel* ur5 = sharedRobot("ur5")) EXPECT_EQ(sharedSrdf(*ur5).size(), 10u);
+}
+
+TEST(SelfCollisionPairs, SkipAdjacentAndDisabledPairs)
+{
+  const std::string urdf = writeTestbot();
+  const RobotModel robot = loadUrdf(urdf);
+  const fs::path srdf = fs::path(urdf).parent_path() / "testbot.srdf";
+  writeFile(srdf, R"(<robot name="testbot"><group name="g"/>
+  <disable_collisions link1="tip" link2="forearm" reason="Never"/>
+</robot>)");
+  const auto disabled = loadDisabledCollisions(srdf.string(), robot);
+  ASSERT_EQ(disabled.size(), 1u);
+  EXPECT_EQ(disabled[0].source, srdf.string() + ":2");
+  const SelfCollision<double> checker(robot, BVType::kRS, disabled);
+  std::set<std::pair<std::string, std::string>> pairs;
+  for (const auto& p : checker.pairs()) pairs.emplace(robot.links[p.first].name, robot.links[p.second].name);
+  // 7 links with geometry give 21 pairs; 6 are adjacent (tip-slider across the geometry-less tool), 1 disabled.
+  const std::set<std::pair<std::string, std::string>> expected = {
+      {"base", "arm"},       {"base", "forearm"},  {"base", "slider"},   {"base", "finger"},  {"base", "tip"},
+      {"column", "forearm"}, {"column", "slider"}, {"column", "finger"}, {"column", "tip"},   {"arm", "slider"},
+      {"arm", "finger"},     {"arm", "tip"},       {"slider", "finger"}, {"finger", "tip"}};
+  EXPECT_EQ(pairs, expected);
+}
+
+/// Links of a robot whose geometry is meshes only: there the brute-force triangle loop is the oracle.
+bool meshOnly(const RobotLink& l) { return !l.mesh.triangles.empty() && l.primitives.empty(); }
+
+template <typename S>
+class SelfCheck : public ::testing::Test
+{
+};
+TYPED_TEST_SUITE(SelfCheck, test::Scalars);
+
+/// Every BV type reports the same colliding pairs at seeded random configurations; RS (double) also agrees with
+/// the brute-force triangle loop on every mesh-only pair of `oracle_configs` configurations in self-collision
+/// and as many free ones.
+template <typename S>
+void checkAllBVTypesAgree(const RobotModel& robot, const std::vector<DisabledCollision>& disabled, int configs,
+                          int oracle_configs)
+{
+  std::vector<SelfCollision<S>> checkers;
+  for (BVType bv : kRobotBVTypes) checkers.emplace_back(robot, bv, disabled);
+  auto rng = test::seededRng("SelfCheck " + robot.name);
+  int colliding = 0, oracle_free = 0, oracle_colliding = 0, oracle_contacts = 0;
+  std::set<LinkPair> seen;
+  for (int c = 0; c < configs; ++c)
+  {
+    const fcl::VectorX<S> q = checkers[0].kinematics().randomConfiguration(rng);
+    const auto reference = checkers[0].check(q);
+    colliding += !reference.empty();
+    seen.insert(reference.begin(), reference.end());
+    for (std::size_t k = 1; k < checkers.size(); ++k)
+      ASSERT_EQ(checkers[k].check(q), reference)
+          << robot.name << " config " << c << " (" << q.transpose() << "): " << bvTypeName(checkers[k].bvType())
+          << " differs from RS";
+    ASSERT_EQ(checkers[0].inCollision(q), !reference.empty());
+    ASSERT_EQ(checkers[0].checkPoses(checkers[0].kinematics().linkPoses(q)), reference);
+
+    if constexpr (std::is_same<S, double>::value)
+    {
+      // The oracle is slow: the first configurations in collision and as many free ones.
+      int& oracle_count = reference.empty() ? oracle_free : oracle_colliding;
+      if (oracle_count >= oracle_configs) continue;
+      ++oracle_count;
+      const auto poses = checkers[0].kinematics().linkPoses(q);
+      for (const LinkPair& p : checkers[0].pairs())
+      {
+        const RobotLink& a = robot.links[p.first];
+        const RobotLink& b = robot.links[p.second];
+        if (!meshOnly(a) || !meshOnly(b)) continue;
+        const bool truth = !test::bruteForcePairs(a.mesh, poses[p.first], b.mesh, poses[p.second]).empty();
+        const bool reported = std::find(reference.begin(), reference.end(), p) != reference.end();
+        EXPECT_EQ(reported, truth) << robot.name << " config " << c << ": " << a.name << " - " << b.name;
+        oracle_contacts += truth;
+      }
+    }
+  }
+  std::cout << "[robot] " << robot.name << ": " << colliding << " of " << configs << " configurations in self-collision, "
+            << seen.size() << " distinct colliding pairs, " << checkers[0].pairs().size() << " pairs tested; oracle on "
+            << oracle_colliding << " colliding and " << oracle_free << " free configurations\n";
+  // Both outcomes occur, so the agreement above is not vacuous.
+  EXPECT_GT(colliding, 0) << robot.name;
+  EXPECT_LT(colliding, configs) << robot.name;
+  if (std::is_same<S, double>::value) EXPECT_GT(oracle_contacts, 0) << robot.name << ": the oracle saw no contact";
+}
+
+TYPED_TEST(SelfCheck, TestRobotAllBVTypesAgree)
+{
+  const RobotModel robot = loadUrdf(writeTestbot());
+  checkAllBVTypesAgree<TypeParam>(robot, {}, 400, 100);
+}
+
+TYPED_TEST(SelfCheck, PandaAllBVTypesAgree)
+{
+  const RobotModel* panda = sharedRobot("panda");
+  if (!panda) GTEST_SKIP() << "../shared/data/robots/panda is absent";
+  checkAllBVTypesAgree<TypeParam>(*panda, sharedSrdf(*panda), 400, 10);
+}
+
+TYPED_TEST(SelfCheck, Ur5AllBVTypesAgree)
+{
+  const RobotModel* ur5 = sharedRobot("ur5");
+  if (!ur5) GTEST_SKIP() << "../shared/data/robots/ur5 is absent";
+  checkAllBVTypesAgree<TypeParam>(*ur5, sharedSrdf(*ur5), 400, 5);
+}
+
+TEST(SelfCheck, ParsesBVTypeNames)
+{
+  for (BVType bv : kRobotBVTypes) EXPECT_EQ(parseBVType(bvTypeName(bv)), bv);
+  EXPECT_EQ(parseBVType("obbrss"), BVType::kOBBRSS);
+  expectError([] { parseBVType("AABB"); }, {"AABB", "RS", "KDOP18"});
+}
+
+// ---- Bad input: every error names the file and the element. ----
+
+std::string replaced(std::string text, const std::string& from, const std::string& to)
+{
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(RobotErrors, MissingMeshNamesUrdfLinkAndFile)
+{
+  const std::string urdf = writeTestbot(replaced(kTestbotUrdf, "../meshes/arm.obj", "../meshes/missing.obj"));
+  expectError([&] { loadUrdf(urdf); }, {urdf, "link 'arm'", "missing.obj", "not found"});
+}
+
+TEST(RobotErrors, CorruptMeshNamesUrdfLinkAndFile)
+{
+  const std::string urdf = writeTestbot(replaced(kTestbotUrdf, "../meshes/arm.obj", "../meshes/corrupt.stl"));
+  writeFile(fs::path(urdf).parent_path().parent_path() / "meshes" / "corrupt.stl", "solid x\n facet normal 0 0 z\n");
+  expectError([&] { loadUrdf(urdf); }, {urdf, "link 'arm'", "corrupt.stl"});
+}
+
+TEST(RobotErrors, UnknownPackageNamesUrdfAndPackage)
+{
+  const std::string urdf =
+      writeTestbot(replaced(kTestbotUrdf, "package://testbot_description/", "package://other_description/"));
+  expectError([&] { loadUrdf(urdf); }, {urdf, "link 'forearm'", "other_description"});
+}
+
+TEST(RobotErrors, UnknownJointTypeNamesUrdfAndJoint)
+{
+  const std::string urdf = writeTestbot(replaced(kTestbotUrdf, R"("j2" type="continuous")", R"("j2" type="ball")"));
+  expectError([&] { loadUrdf(urdf); }, {urdf, "j2", "ball"});
+}
+
+TEST(RobotErrors, UnsupportedJointTypeNamesUrdfAndJoint)
+{
+  const std::string urdf = writeTestbot(replaced(kTestbotUrdf, R"("j2" type="continuous")", R"("j2" type="floating")"));
+  expectError([&] { loadUrdf(urdf); }, {urdf, "joint 'j2'", "floating"});
+}
+
+TEST(RobotErrors, ZeroAxisNamesUrdfAndJoint)
+{
+  const std::string urdf = writeTestbot(replaced(kTestbotUrdf, R"(<axis xyz="0 0 2"/>)", R"(<axis xyz="0 0 0"/>)"));
+  expectError([&] { loadUrdf(urdf); }, {urdf, "joint 'j1'", "axis"});
+}
+
+TEST(RobotErrors, MalformedUrdfNamesFile)
+{
+  const std::string truncated = writeTestbot(std::string(kTestbotUrdf).substr(0, 300));
+  expectError([&] { loadUrdf(truncated); }, {truncated});
+  // urdfdom drops a <collision> it cannot parse and only logs it; that must still be an error.
+  const std::string bad_box = writeTestbot(replaced(kTestbotUrdf, R"(size="0.1 0.1 0.1")", R"(size="0.1 x 0.1")"));
+  expectError([&] { loadUrdf(bad_box); }, {bad_box, "slider"});
+  const std::string no_limit = writeTestbot(replaced(kTestbotUrdf, R"(<limit lower="-1.5" upper="2.0" effort="1" velocity="1"/>)", ""));
+  expectError([&] { loadUrdf(no_limit); }, {no_limit, "j1", "limits"});
+  const std::string bad_mimic = writeTestbot(replaced(kTestbotUrdf, R"(<mimic joint="j3")", R"(<mimic joint="j9")"));
+  expectError([&] { loadUrdf(bad_mimic); }, {bad_mimic, "j4", "j9"});
+  expectError([] { loadUrdf("/nonexistent/robot.urdf"); }, {"/nonexistent/robot.urdf"});
+}
+
+TEST(RobotErrors, MalformedSrdfNamesFileAndLine)
+{
+  const std::string urdf = writeTestbot();
+  const RobotModel robot = loadUrdf(urdf);
+  const fs::path dir = fs::path(urdf).parent_path();
+  const std::string truncated = (dir / "truncated.srdf").string();
+  writeFile(truncated, "<robot name=\"testbot\">\n  <disable_collisions link1=\"arm\" link2=\"tip\"\n");
+  expectError([&] { loadDisabledCollisions(truncated, robot); }, {truncated, "malformed XML", "line"});
+  const std::string missing_attr = (dir / "missing_attr.srdf").string();
+  writeFile(missing_attr, "<robot name=\"testbot\">\n\n  <disable_collisions link1=\"arm\"/>\n</robot>\n");
+  expectError([&] { loadDisabledCollisions(missing_attr, robot); }, {missing_attr, "line 3", "link2"});
+  const std::string wrong_root = (dir / "wrong_root.srdf").string();
+  writeFile(wrong_root, "<robots/>\n");
+  expectError([&] { loadDisabledCollisions(wrong_root, robot); }, {wrong_root, "<robot>"});
+  expectError([&] { loadDisabledCollisions((dir / "none.srdf").string(), robot); }, {"none.srdf", "cannot open"});
+}
+
+TEST(RobotErrors, SrdfNamingAnUnknownLinkNamesFileLineAndLink)
+{
+  const std::string urdf = writeTestbot();
+  const RobotModel robot = loadUrdf(urdf);
+  const std::string srdf = (fs::path(urdf).parent_path() / "unknown.srdf").string();
+  writeFile(srdf, "<robot name=\"testbot\">\n  <disable_collisions link1=\"arm\" link2=\"tip\"/>\n"
+                  "  <disable_collisions link1=\"arm\" link2=\"elbow\"/>\n</robot>\n");
+  expectError([&] { loadDisabledCollisions(srdf, robot); }, {srdf, "line 3", "elbow", "testbot"});
+  // Pairs built by hand are checked by the checker.
+  expectError([&] { SelfCollision<double>(robot, BVType::kRS, {{"arm", "elbow", "", ""}}); }, {"elbow", "testbot"});
+}
+
+}  // namespace
+}  // namespace fcl_rs
