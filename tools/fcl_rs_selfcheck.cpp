@@ -1,0 +1,203 @@
+// fcl_rs_selfcheck: self-collision of a URDF robot at random configurations, per BV type, with timings.
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <fcl_rs/robot.h>
+
+namespace {
+
+const char* kUsage = R"(usage: fcl_rs_selfcheck ROBOT.urdf [options]
+
+Checks the robot for self-collision at random joint configurations drawn uniformly within the joint limits
+(continuous joints in [-pi, pi]) and reports the colliding link pairs, the share of configurations in
+self-collision and the time per full check (forward kinematics plus every tested pair).
+
+Pairs tested: every two links with collision geometry, except adjacent links (a link and its nearest
+ancestor with geometry) and the SRDF's <disable_collisions> pairs.
+
+options:
+  --srdf FILE     skip the SRDF's disable_collisions pairs (without it only adjacent pairs are skipped)
+  --configs N     number of random configurations (default 1000)
+  --bv TYPE       RS, OBBRSS, OBB, RSS, KDOP18, or all (default RS); with all, every type checks the same
+                  configurations and the command fails if two types report different pairs
+  --seed N        seed of the random configurations (default 1)
+  --list          print every configuration that is in self-collision with its colliding pairs
+  --help          this text
+)";
+
+struct Options
+{
+  std::string urdf, srdf;
+  int configs = 1000;
+  std::vector<fcl_rs::BVType> bvs = {fcl_rs::BVType::kRS};
+  unsigned long long seed = 1;
+  bool list = false;
+};
+
+[[noreturn]] void usageError(const std::string& what)
+{
+  std::cerr << "fcl_rs_selfcheck: " << what << "\n(--help shows the usage)\n";
+  std::exit(2);
+}
+
+long long toInteger(const std::string& option, const std::string& text, long long min)
+{
+  char* end = nullptr;
+  const long long v = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || v < min)
+    usageError(option + " needs an integer >= " + std::to_string(min) + ", got '" + text + "'");
+  return v;
+}
+
+Options parse(int argc, char** argv)
+{
+  Options o;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usageError(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--help" || a == "-h")
+    {
+      std::cout << kUsage;
+      std::exit(0);
+    }
+    else if (a == "--srdf") o.srdf = value();
+    else if (a == "--configs") o.configs = int(toInteger(a, value(), 1));
+    else if (a == "--seed") o.seed = (unsigned long long)toInteger(a, value(), 0);
+    else if (a == "--list") o.list = true;
+    else if (a == "--bv")
+    {
+      const std::string v = value();
+      if (v == "all" || v == "ALL")
+        o.bvs.assign(fcl_rs::kRobotBVTypes.begin(), fcl_rs::kRobotBVTypes.end());
+      else
+      {
+        try
+        {
+          o.bvs = {fcl_rs::parseBVType(v)};
+        }
+        catch (const std::exception& e)
+        {
+          usageError(e.what());
+        }
+      }
+    }
+    else if (!a.empty() && a[0] == '-') usageError("unknown option " + a);
+    else if (o.urdf.empty()) o.urdf = a;
+    else usageError("more than one URDF file given ('" + o.urdf + "', '" + a + "')");
+  }
+  if (o.urdf.empty()) usageError("no URDF file given");
+  return o;
+}
+
+std::string pairName(const fcl_rs::RobotModel& robot, const fcl_rs::LinkPair& p)
+{
+  return robot.links[p.first].name + " - " + robot.links[p.second].name;
+}
+
+int run(const Options& o)
+{
+  const fcl_rs::RobotModel robot = fcl_rs::loadUrdf(o.urdf);
+  const auto disabled = o.srdf.empty() ? std::vector<fcl_rs::DisabledCollision>{}
+                                       : fcl_rs::loadDisabledCollisions(o.srdf, robot);
+  int with_geometry = 0;
+  for (const auto& l : robot.links) with_geometry += l.hasGeometry();
+
+  // The same configurations for every BV type.
+  const fcl_rs::Kinematics<double> kinematics(robot);
+  std::mt19937_64 rng(o.seed);
+  std::vector<fcl::VectorXd> configs;
+  for (int c = 0; c < o.configs; ++c) configs.push_back(kinematics.randomConfiguration(rng));
+
+  std::cout << "robot " << robot.name << ": " << robot.links.size() << " links (" << with_geometry
+            << " with collision geometry), " << robot.numVariables() << " joint variables, "
+            << disabled.size() << " SRDF-disabled pairs" << (o.srdf.empty() ? " (no --srdf)" : "") << "\n";
+  std::cout << o.configs << " random configurations, seed " << o.seed << "\n\n";
+
+  std::vector<std::vector<fcl_rs::LinkPair>> reference;
+  std::string reference_bv;
+  bool agree = true;
+  for (fcl_rs::BVType bv : o.bvs)
+  {
+    const auto build_start = std::chrono::steady_clock::now();
+    fcl_rs::SelfCollision<double> checker(robot, bv, disabled);
+    const double build_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - build_start).count();
+
+    std::vector<std::vector<fcl_rs::LinkPair>> results(configs.size());
+    fcl_rs::QueryStats stats;
+    const auto start = std::chrono::steady_clock::now();
+    for (std::size_t c = 0; c < configs.size(); ++c) results[c] = checker.check(configs[c], &stats);
+    const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+
+    std::map<fcl_rs::LinkPair, int> pair_counts;
+    int in_collision = 0;
+    for (const auto& r : results)
+    {
+      in_collision += !r.empty();
+      for (const auto& p : r) ++pair_counts[p];
+    }
+    std::cout << "[" << fcl_rs::bvTypeName(bv) << "] " << checker.pairs().size() << " pairs tested, built in "
+              << std::fixed << std::setprecision(1) << build_ms << " ms\n";
+    if (o.list)
+      for (std::size_t c = 0; c < configs.size(); ++c)
+      {
+        if (results[c].empty()) continue;
+        std::cout << "  config " << c << " (" << configs[c].transpose() << "):";
+        for (const auto& p : results[c]) std::cout << " [" << pairName(robot, p) << "]";
+        std::cout << "\n";
+      }
+    std::cout << "  in self-collision: " << in_collision << " of " << configs.size() << " configurations ("
+              << std::setprecision(1) << 100.0 * in_collision / configs.size() << "%)\n";
+    std::vector<std::pair<int, fcl_rs::LinkPair>> ranked;
+    for (const auto& [pair, count] : pair_counts) ranked.emplace_back(count, pair);
+    std::sort(ranked.rbegin(), ranked.rend());
+    for (const auto& [count, pair] : ranked)
+      std::cout << "    " << std::setw(6) << count << "  " << pairName(robot, pair) << "\n";
+    std::cout << "  time per check: " << std::setprecision(2) << us / configs.size() << " us"
+              << "  (mesh-mesh BV tests per check: " << std::setprecision(1)
+              << double(stats.num_bv_tests) / configs.size()
+              << ", triangle tests: " << double(stats.num_leaf_tests) / configs.size() << ")\n\n";
+
+    if (reference.empty())
+    {
+      reference = results;
+      reference_bv = fcl_rs::bvTypeName(bv);
+    }
+    else
+      for (std::size_t c = 0; c < configs.size(); ++c)
+        if (results[c] != reference[c])
+        {
+          std::cout << "  DIFFERENT from " << reference_bv << " at config " << c << "\n";
+          agree = false;
+        }
+  }
+  if (o.bvs.size() > 1) std::cout << (agree ? "all BV types report the same pairs\n" : "BV types DISAGREE\n");
+  return agree ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  const Options options = parse(argc, argv);
+  try
+  {
+    return run(options);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << e.what() << "\n";
+    return 1;
+  }
+}
