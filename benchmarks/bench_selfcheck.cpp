@@ -1,0 +1,293 @@
+// fcl_rs_bench_selfcheck: µs per full-robot self-collision check per BV type, as ratios to OBBRSS in one run.
+//
+// Per robot (panda and ur5 from ../shared/data, or any --urdf): the same seeded configurations for every BV
+// type; per type the tree build time, µs per full check (all pairs) and per first-hit check (what a planner
+// asks), mesh-mesh BV and triangle tests per check, the share of configurations in self-collision, and the
+// configurations where the type's colliding pairs differ from RS's. Times are the sum over blocks of 16
+// configurations of each block's fastest pass, the passes interleaved over the types, so that a shared, busy
+// machine inflates no type more than another; the fastest pass is one with the type's trees in cache, as when a
+// planner calls the same checker again and again.
+
+#include "bench_common.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <fcl_rs/robot.h>
+
+namespace {
+
+using namespace fcl_rs::bench;
+
+struct Options
+{
+  int configs = 2000;
+  int passes = 10;
+  unsigned long long seed = 1;
+  std::string csv;
+  std::string urdf, srdf;
+};
+
+struct Row
+{
+  std::string robot;
+  fcl_rs::BVType bv;
+  int configs = 0;
+  std::size_t pairs = 0;
+  double build_ms = 0;
+  double us_check = 0, us_first = 0;
+  double bv_tests = 0, tri_tests = 0;
+  double colliding_share = 0;
+  int disagreements = 0;
+};
+
+void printHelp()
+{
+  std::printf(
+      "Usage: fcl_rs_bench_selfcheck [options]\n"
+      "\n"
+      "Times full-robot self-collision checks with RS, OBBRSS, OBB, RSS and KDOP18 link trees on the same\n"
+      "random configurations (uniform within the joint limits), for panda and ur5 from\n"
+      "%s/robots, with their SRDF pairs disabled.\n"
+      "\n"
+      "Options:\n"
+      "  --configs N   configurations per robot (default 2000)\n"
+      "  --passes N    timing passes over blocks of 16 configurations, interleaved over the BV types; per\n"
+      "                block the fastest pass counts (default 10)\n"
+      "  --seed N      seed of the configurations (default 1)\n"
+      "  --urdf FILE   benchmark this robot instead (with --srdf FILE for its disabled pairs)\n"
+      "  --srdf FILE\n"
+      "  --csv FILE    also write the table to FILE as CSV\n"
+      "  --help\n",
+      FCL_RS_SHARED_DATA_DIR);
+}
+
+Options parse(int argc, char** argv)
+{
+  Options o;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+      return argv[++i];
+    };
+    auto positive = [&](const std::string& text) {
+      const unsigned long long v = number(a, text);
+      if (v == 0 || v > 100000000) throw std::invalid_argument(a + " needs a positive count, not '" + text + "'");
+      return int(v);
+    };
+    if (a == "--help" || a == "-h")
+    {
+      printHelp();
+      std::exit(0);
+    }
+    else if (a == "--configs") o.configs = positive(value());
+    else if (a == "--passes") o.passes = positive(value());
+    else if (a == "--seed") o.seed = number(a, value());
+    else if (a == "--csv") o.csv = value();
+    else if (a == "--urdf") o.urdf = value();
+    else if (a == "--srdf") o.srdf = value();
+    else throw std::invalid_argument("unknown argument " + a + " (--help shows the options)");
+  }
+  return o;
+}
+
+std::vector<Row> benchRobot(const std::string& urdf, const std::string& srdf, const Options& o)
+{
+  const fcl_rs::RobotModel robot = fcl_rs::loadUrdf(urdf);
+  const auto disabled = srdf.empty() ? std::vector<fcl_rs::DisabledCollision>{}
+                                     : fcl_rs::loadDisabledCollisions(srdf, robot);
+  std::vector<fcl_rs::SelfCollision<double>> checkers;
+  std::vector<Row> rows;
+  for (fcl_rs::BVType bv : fcl_rs::kRobotBVTypes)
+  {
+    const auto t0 = Clock::now();
+    checkers.emplace_back(robot, bv, disabled);
+    Row row;
+    row.robot = robot.name;
+    row.bv = bv;
+    row.configs = o.configs;
+    row.pairs = checkers.back().pairs().size();
+    row.build_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    rows.push_back(row);
+  }
+
+  const fcl_rs::Kinematics<double>& kin = checkers[0].kinematics();
+  std::mt19937_64 rng(o.seed);
+  std::vector<fcl::VectorXd> configs;
+  for (int c = 0; c < o.configs; ++c) configs.push_back(kin.randomConfiguration(rng));
+
+  // Answers and counts (untimed pass).
+  std::vector<std::vector<fcl_rs::LinkPair>> reference;
+  for (std::size_t k = 0; k < checkers.size(); ++k)
+  {
+    fcl_rs::QueryStats stats;
+    int colliding = 0;
+    for (std::size_t c = 0; c < configs.size(); ++c)
+    {
+      auto pairs = checkers[k].check(configs[c], &stats);
+      colliding += !pairs.empty();
+      if (k == 0) reference.push_back(std::move(pairs));
+      else rows[k].disagreements += pairs != reference[c];
+    }
+    rows[k].bv_tests = double(stats.num_bv_tests) / configs.size();
+    rows[k].tri_tests = double(stats.num_leaf_tests) / configs.size();
+    rows[k].colliding_share = double(colliding) / configs.size();
+  }
+
+  // Timed passes over short blocks of configurations, interleaved over the BV types; per block and type the
+  // fastest pass counts, so a block preempted by other processes on a shared machine is not what is reported.
+  constexpr std::size_t kBlock = 16;
+  const std::size_t blocks = (configs.size() + kBlock - 1) / kBlock;
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<double>> full(checkers.size(), std::vector<double>(blocks, inf));
+  auto first = full;
+  std::vector<double> fk(blocks, inf);
+  std::vector<fcl::Transform3d> poses;
+  auto seconds = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  for (int p = 0; p < o.passes; ++p)
+    for (std::size_t b = 0; b < blocks; ++b)
+    {
+      const std::size_t begin = b * kBlock, end = std::min(configs.size(), begin + kBlock);
+      auto t0 = Clock::now();
+      for (std::size_t c = begin; c < end; ++c)
+      {
+        kin.linkPoses(configs[c], poses);
+        g_sink += poses.size();
+      }
+      fk[b] = std::min(fk[b], seconds(t0));
+      for (std::size_t k = 0; k < checkers.size(); ++k)
+        for (int order = 0; order < 2; ++order)
+        {
+          // The second of the two runs finds the trees in cache: alternate which one that is.
+          t0 = Clock::now();
+          if ((order + p) % 2 == 0)
+          {
+            for (std::size_t c = begin; c < end; ++c) g_sink += checkers[k].check(configs[c]).size();
+            full[k][b] = std::min(full[k][b], seconds(t0));
+          }
+          else
+          {
+            for (std::size_t c = begin; c < end; ++c) g_sink += checkers[k].inCollision(configs[c]);
+            first[k][b] = std::min(first[k][b], seconds(t0));
+          }
+        }
+    }
+  auto usPerConfig = [&](const std::vector<double>& t) {
+    return 1e6 * std::accumulate(t.begin(), t.end(), 0.0) / configs.size();
+  };
+  for (std::size_t k = 0; k < checkers.size(); ++k)
+  {
+    rows[k].us_check = usPerConfig(full[k]);
+    rows[k].us_first = usPerConfig(first[k]);
+  }
+  std::printf("%s: %zu links, %d joint variables, %zu pairs tested per check, %d configurations (seed %llu), "
+              "forward kinematics alone %s us\n",
+              robot.name.c_str(), robot.links.size(), robot.numVariables(), rows[0].pairs, o.configs, o.seed,
+              timeText(usPerConfig(fk)).c_str());
+  return rows;
+}
+
+const Row& obbrssRow(const std::vector<Row>& rows, const std::string& robot)
+{
+  for (const Row& r : rows)
+    if (r.robot == robot && r.bv == fcl_rs::BVType::kOBBRSS) return r;
+  return rows.front();
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  Options o;
+  try
+  {
+    o = parse(argc, argv);
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "fcl_rs_bench_selfcheck: %s\n", e.what());
+    return 2;
+  }
+  std::vector<std::pair<std::string, std::string>> robots;
+  if (!o.urdf.empty())
+    robots.emplace_back(o.urdf, o.srdf);
+  else
+    for (const char* name : {"panda", "ur5"})
+    {
+      const std::filesystem::path dir = std::filesystem::path(FCL_RS_SHARED_DATA_DIR) / "robots" / name;
+      const std::string urdf = (dir / (std::string(name) + ".urdf")).string();
+      if (!std::filesystem::exists(urdf))
+      {
+        std::printf("%s: %s is absent, skipped\n", name, urdf.c_str());
+        continue;
+      }
+      robots.emplace_back(urdf, (dir / (std::string(name) + ".srdf")).string());
+    }
+  if (robots.empty())
+  {
+    std::fprintf(stderr, "no robot to benchmark (give --urdf FILE)\n");
+    return 1;
+  }
+
+  std::vector<Row> rows;
+  try
+  {
+    for (const auto& [urdf, srdf] : robots)
+    {
+      const auto r = benchRobot(urdf, srdf, o);
+      rows.insert(rows.end(), r.begin(), r.end());
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
+
+  std::printf("\nmachine: nproc %d, CPU %s; compiler %s; single-threaded timing with steady_clock\n", onlineCpus(),
+              cpuModel().c_str(), __VERSION__);
+  std::printf("%-7s %-7s %9s %10s %10s %9s %10s %9s %9s %9s %8s\n", "robot", "BV", "build ms", "us/check",
+              "us/1st-hit", "vs OBBRSS", "BV tests", "vs OBBRSS", "tri tests", "colliding", "differ");
+  for (const Row& r : rows)
+  {
+    const Row& base = obbrssRow(rows, r.robot);
+    std::printf("%-7s %-7s %9.1f %10s %10s %9s %10.1f %9s %9.1f %8.1f%% %8d\n", r.robot.c_str(),
+                fcl_rs::bvTypeName(r.bv), r.build_ms, timeText(r.us_check).c_str(), timeText(r.us_first).c_str(),
+                ratioText(ratio(r.us_check, base.us_check)).c_str(), r.bv_tests,
+                ratioText(ratio(r.bv_tests, base.bv_tests)).c_str(), r.tri_tests, 100 * r.colliding_share,
+                r.disagreements);
+  }
+  std::printf("\nus/check: forward kinematics and every pair; us/1st-hit: stops at the first colliding pair.\n"
+              "BV and triangle tests count mesh-mesh queries only (mesh-shape queries go through FCL's GJK).\n"
+              "differ: configurations whose colliding pairs differ from RS's (expected 0).\n");
+
+  if (!o.csv.empty())
+  {
+    std::ofstream out(o.csv);
+    out << "robot,bv,configs,pairs,build_ms,us_per_check,us_per_first_hit,time_vs_obbrss,bv_tests_per_check,"
+           "bv_tests_vs_obbrss,tri_tests_per_check,colliding_share,differ_from_rs\n";
+    for (const Row& r : rows)
+    {
+      const Row& base = obbrssRow(rows, r.robot);
+      out << r.robot << "," << fcl_rs::bvTypeName(r.bv) << "," << r.configs << "," << r.pairs << "," << r.build_ms
+          << "," << r.us_check << "," << r.us_first << "," << ratio(r.us_check, base.us_check) << "," << r.bv_tests << ","
+          << ratio(r.bv_tests, base.bv_tests) << "," << r.tri_tests << ","
+          << r.colliding_share << "," << r.disagreements << "\n";
+    }
+    std::printf("CSV written to %s\n", o.csv.c_str());
+  }
+  int differ = 0;
+  for (const Row& r : rows) differ += r.disagreements;
+  return differ == 0 ? 0 : 1;
+}
