@@ -1,7 +1,6 @@
 // URDF loading: urdfdom parses, this file checks what urdfdom only logs and loads the collision geometry.
 #include "fcl_rs/robot_model.h"
 
-#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -60,6 +59,7 @@ private:
   throw std::runtime_error("fcl_rs: URDF '" + urdf_path + "': " + what);
 }
 
+// urdfdom itself rejects non-finite numbers, so none is checked here.
 fcl::Transform3d toTransform(const urdf::Pose& p)
 {
   double x, y, z, w;
@@ -121,8 +121,7 @@ void addCollision(const urdf::Collision& c, const std::string& urdf_path, RobotL
         fail(urdf_path, where + ": " + e.what());
       }
       const fcl::Vector3d scale(m.scale.x, m.scale.y, m.scale.z);
-      if (!scale.allFinite() || (scale.array() == 0).any())
-        fail(urdf_path, where + ": scale must be finite and non-zero");
+      if ((scale.array() == 0).any()) fail(urdf_path, where + ": scale has a zero component");
       auto& out = link.mesh;
       const auto base = unsigned(out.vertices.size());
       for (const auto& v : mesh.vertices) out.vertices.push_back(origin * v.cwiseProduct(scale));
@@ -131,8 +130,8 @@ void addCollision(const urdf::Collision& c, const std::string& urdf_path, RobotL
     }
     default: fail(urdf_path, "link '" + link.name + "' has a collision geometry of unknown type");
   }
-  if (!prim.size.allFinite() || (prim.size.array() < 0).any() || prim.size.maxCoeff() <= 0)
-    fail(urdf_path, "link '" + link.name + "' has a collision primitive with a negative, zero or non-finite size");
+  if ((prim.size.array() < 0).any() || prim.size.maxCoeff() <= 0)
+    fail(urdf_path, "link '" + link.name + "' has a collision primitive with a negative or zero size");
   link.primitives.push_back(prim);
 }
 
@@ -272,7 +271,7 @@ RobotModel loadUrdf(const std::string& urdf_path)
       if (joint.type != JointType::kFixed)
       {
         const fcl::Vector3d axis(j.axis.x, j.axis.y, j.axis.z);
-        if (!axis.allFinite() || axis.norm() == 0) fail(urdf_path, "joint '" + j.name + "' has a zero or non-finite axis");
+        if (axis.norm() == 0) fail(urdf_path, "joint '" + j.name + "' has a zero axis");
         joint.axis = axis.normalized();
       }
       if (joint.type == JointType::kRevolute || joint.type == JointType::kPrismatic)
@@ -280,9 +279,9 @@ RobotModel loadUrdf(const std::string& urdf_path)
         // urdfdom already requires <limit> for these two types.
         joint.lower = j.limits->lower;
         joint.upper = j.limits->upper;
-        if (!(joint.lower <= joint.upper) || !std::isfinite(joint.lower) || !std::isfinite(joint.upper))
+        if (joint.lower > joint.upper)
           fail(urdf_path, "joint '" + j.name + "' has limits lower=" + std::to_string(joint.lower) +
-                              " > upper=" + std::to_string(joint.upper) + " or non-finite limits");
+                              " > upper=" + std::to_string(joint.upper));
       }
       link.parent_joint = int(robot.joints.size());
       robot.joints.push_back(joint);

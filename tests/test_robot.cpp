@@ -511,6 +511,16 @@ TEST(RobotErrors, ZeroAxisNamesUrdfAndJoint)
   expectError([&] { loadUrdf(urdf); }, {urdf, "joint 'j1'", "axis"});
 }
 
+TEST(RobotErrors, InconsistentValuesNameUrdfAndElement)
+{
+  const std::string limits = writeTestbot(replaced(kTestbotUrdf, R"(lower="-1.5" upper="2.0")", R"(lower="1" upper="-1")"));
+  expectError([&] { loadUrdf(limits); }, {limits, "joint 'j1'", "lower"});
+  const std::string scale = writeTestbot(replaced(kTestbotUrdf, R"(scale="2 1 1")", R"(scale="2 0 1")"));
+  expectError([&] { loadUrdf(scale); }, {scale, "link 'arm'", "arm.obj", "scale"});
+  const std::string size = writeTestbot(replaced(kTestbotUrdf, R"(<sphere radius="0.04"/>)", R"(<sphere radius="-0.04"/>)"));
+  expectError([&] { loadUrdf(size); }, {size, "link 'tip'", "size"});
+}
+
 TEST(RobotErrors, MalformedUrdfNamesFile)
 {
   const std::string truncated = writeTestbot(std::string(kTestbotUrdf).substr(0, 300));
