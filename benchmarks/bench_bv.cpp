@@ -1,14 +1,18 @@
-// fcl_rs_bench_bv: Google Benchmark micro benchmarks of one bounding-volume overlap test and of fitting
-// one volume to N points, RS against FCL's volumes.
+// fcl_rs_bench_bv: Google Benchmark micro benchmarks of one bounding-volume overlap test (paper Fig. 10)
+// and of fitting one volume to N points (Fig. 11), RS against FCL's volumes.
 //
-// Overlap workload: point sets of real tree nodes (leaves = one triangle, internal nodes = a few dozen
-// triangles) of a generated torus, paired under random relative poses. Every BV type is fitted to the
-// same point sets and tested on the same pairs; a pair joins the "overlapping" pool only when every
-// type reports overlap and the "separated" pool only when every type reports separation (RS by its
-// default two-sided test; the one-sided and boxed variants run on the same pools).
+// Overlap workload: the triangles of real tree nodes (leaves = one triangle, internal nodes = a few
+// dozen triangles) of a generated torus, paired under random relative poses. Every BV type is fitted
+// to the same point sets and tested on the same pairs; a pair joins the "overlapping" pool only when
+// every type reports overlap and the "separated" pool only when every type reports separation (RS by
+// its default two-sided test; the other overlap tests run on the same pools).
+//
+// Fit workload: the corners of the first N/3 triangles of the torus (three per triangle, as the tree
+// builders fit them). RS is fitted with each frame fit (Fit/RS/vertices is the paper's and the default).
 
-#include <fcl_rs/fcl_rs.h>
+#include "bench_common.h"
 
+#include <fcl/math/bv/AABB.h>
 #include <fcl/math/bv/OBB.h>
 #include <fcl/math/bv/OBBRSS.h>
 #include <fcl/math/bv/RSS.h>
@@ -20,46 +24,17 @@
 
 #include <cmath>
 #include <cstdint>
-#include <random>
 #include <string>
 #include <vector>
 
 namespace {
 
-using S = double;
+using namespace fcl_rs::bench;
 using fcl::Matrix3d;
-using fcl::Vector3d;
 using KDOP18 = fcl::KDOP<S, 18>;
 using Points = std::vector<Vector3d>;
 
 constexpr std::size_t kPoolSize = 512;
-
-class Random
-{
-public:
-  explicit Random(std::uint64_t seed) : engine_(seed) {}
-  double uniform() { return double(engine_() >> 11) * 0x1.0p-53; }
-
-private:
-  std::mt19937_64 engine_;
-};
-
-// Shoemake's uniform random rotation.
-Matrix3d randomRotation(Random& rng)
-{
-  const double u1 = rng.uniform(), u2 = 2 * M_PI * rng.uniform(), u3 = 2 * M_PI * rng.uniform();
-  const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
-  return fcl::Quaterniond(b * std::cos(u3), a * std::sin(u2), a * std::cos(u2), b * std::sin(u3)).toRotationMatrix();
-}
-
-Vector3d randomInUnitBall(Random& rng)
-{
-  for (;;)
-  {
-    const Vector3d p(2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1);
-    if (p.squaredNorm() <= 1) return p;
-  }
-}
 
 const fcl_rs::TriangleMesh<S>& torus()
 {
@@ -72,6 +47,7 @@ const fcl_rs::TriangleMesh<S>& torus()
 std::vector<Points> nodePointSets(int depth)
 {
   const auto model = fcl_rs::buildModel<fcl_rs::RSd>(torus());
+  const std::vector<int> order = fcl_rs::primitiveOrder(*model);
   std::vector<Points> sets;
   std::vector<std::pair<int, int>> stack = {{0, 0}};
   while (!stack.empty())
@@ -82,8 +58,8 @@ std::vector<Points> nodePointSets(int depth)
     if ((depth < 0 && node.isLeaf()) || level == depth)
     {
       Points points;
-      for (int t = node.first_primitive; t < node.first_primitive + node.num_primitives; ++t)
-        for (int c = 0; c < 3; ++c) points.push_back(model->vertices[model->tri_indices[t][c]]);
+      for (int i = node.first_primitive; i < node.first_primitive + node.num_primitives; ++i)
+        for (int c = 0; c < 3; ++c) points.push_back(model->vertices[model->tri_indices[order[std::size_t(i)]][c]]);
       sets.push_back(std::move(points));
     }
     else if (!node.isLeaf())
@@ -222,10 +198,8 @@ void registerOverlap(const std::string& kind, const Pools& (*pools)())
     const auto pool = [pools, overlapping]() -> const Pool& {
       return overlapping ? pools().overlapping : pools().separated;
     };
-    for (const auto& [variant, test] : {std::pair{"RS", fcl_rs::OverlapTest::kTwoSided},
-                                         std::pair{"RS_one_sided", fcl_rs::OverlapTest::kOneSided},
-                                         std::pair{"RS_boxed", fcl_rs::OverlapTest::kBoxed}})
-      benchmark::RegisterBenchmark(("Overlap/" + std::string(variant) + suffix).c_str(),
+    for (const auto& [test, name] : kOverlapTests)
+      benchmark::RegisterBenchmark(("Overlap/RS_" + name + suffix).c_str(),
                                    [pool, test = test](benchmark::State& st) {
                                      const Pool& p = pool();
                                      runPool(st, p.R.size(), [&](std::size_t i) {
@@ -256,29 +230,46 @@ void registerOverlap(const std::string& kind, const Pools& (*pools)())
   }
 }
 
-// The first n vertices of the torus, in mesh order (a band of neighbouring rings).
-Points fitPoints(int n)
+// Corners of the first n / 3 triangles of the torus, in mesh order (a band of neighbouring rings).
+Points trianglePoints(int n)
 {
-  const auto& v = torus().vertices;
-  return Points(v.begin(), v.begin() + std::min<std::ptrdiff_t>(n, std::ptrdiff_t(v.size())));
+  const auto& m = torus();
+  Points p;
+  for (std::size_t t = 0; t < m.triangles.size() && int(p.size()) + 3 <= n; ++t)
+    for (int c = 0; c < 3; ++c) p.push_back(m.vertices[m.triangles[t][c]]);
+  return p;
 }
 
-void BM_FitRS(benchmark::State& state)
+void fitRS(benchmark::State& state, fcl_rs::FrameFit fit)
 {
-  const Points p = fitPoints(int(state.range(0)));
-  for (auto _ : state) benchmark::DoNotOptimize(fcl_rs::fitPoints<S>(p.data(), int(p.size())));
+  const Points p = trianglePoints(int(state.range(0)));
+  const auto corner = [&](int i, int c) -> const Vector3d& { return p[std::size_t(3 * i + c)]; };
+  for (auto _ : state) benchmark::DoNotOptimize(fcl_rs::fitTriangles<S>(int(p.size() / 3), corner, fit));
 }
 
 template <typename BV>
 void BM_FitFcl(benchmark::State& state)
 {
-  const Points p = fitPoints(int(state.range(0)));
+  const Points p = trianglePoints(int(state.range(0)));
   for (auto _ : state) benchmark::DoNotOptimize(fitFcl<BV>(p));
 }
 
-BENCHMARK(BM_FitRS)->Name("Fit/RS")->Arg(3)->Arg(24)->Arg(192)->Arg(1536);
-BENCHMARK_TEMPLATE(BM_FitFcl, fcl::OBB<S>)->Name("Fit/OBB")->Arg(3)->Arg(24)->Arg(192)->Arg(1536);
-BENCHMARK_TEMPLATE(BM_FitFcl, KDOP18)->Name("Fit/KDOP18")->Arg(3)->Arg(24)->Arg(192)->Arg(1536);
+void registerFits()
+{
+  const auto sizes = [](benchmark::internal::Benchmark* b) { b->Arg(3)->Arg(24)->Arg(192)->Arg(1536); };
+  for (fcl_rs::FrameFit fit :
+       {fcl_rs::FrameFit::kVertices, fcl_rs::FrameFit::kTriangleArea, fcl_rs::FrameFit::kConvexHull})
+    sizes(benchmark::RegisterBenchmark((std::string("Fit/RS/") + fcl_rs::frameFitName(fit)).c_str(),
+                                       [fit](benchmark::State& st) { fitRS(st, fit); }));
+  sizes(benchmark::RegisterBenchmark("Fit/OBB", BM_FitFcl<fcl::OBB<S>>));
+  sizes(benchmark::RegisterBenchmark("Fit/RSS", BM_FitFcl<fcl::RSS<S>>));
+  sizes(benchmark::RegisterBenchmark("Fit/OBBRSS", BM_FitFcl<fcl::OBBRSS<S>>));
+  sizes(benchmark::RegisterBenchmark("Fit/kIOS", BM_FitFcl<fcl::kIOS<S>>));
+  sizes(benchmark::RegisterBenchmark("Fit/AABB", BM_FitFcl<fcl::AABB<S>>));
+  sizes(benchmark::RegisterBenchmark("Fit/KDOP16", BM_FitFcl<fcl::KDOP<S, 16>>));
+  sizes(benchmark::RegisterBenchmark("Fit/KDOP18", BM_FitFcl<KDOP18>));
+  sizes(benchmark::RegisterBenchmark("Fit/KDOP24", BM_FitFcl<fcl::KDOP<S, 24>>));
+}
 
 }  // namespace
 
@@ -286,6 +277,7 @@ int main(int argc, char** argv)
 {
   registerOverlap("leaf", leafPools);
   registerOverlap("internal", internalPools);
+  registerFits();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   // Built before timing starts, so that no benchmark's first run pays for them.
