@@ -24,13 +24,18 @@ enum class PairTest
   kAABB,    ///< world-axis boxes refitted to the moved meshes' vertices
   kOBB,     ///< FCL's OBB (PCA of the triangles' vertices), moved with the body
   kKDOP18,  ///< FCL's KDOP<S, 18> refitted to the moved meshes' vertices (as the paper does)
-  kRS,      ///< the RS tree's root, moved with the body, fcl_rs::overlap
-  kExact,   ///< the meshes intersect: FCL's dynamic AABB tree broadphase, then fcl_rs::collide on RS trees
+  kRS,      ///< the RS tree's root, moved with the body, fcl_rs::overlap (two-sided test)
+  /// Variants that bracket how the paper may have done it:
+  kKDOP18Realigned,  ///< KDOP18 of the moved corners of the body's own 18-DOP (O(1) per frame, looser)
+  kRSOneSided,       ///< the RS root with the paper's one-sided overlap test (OverlapTest::kOneSided)
+  kExact,  ///< the meshes intersect: FCL's dynamic AABB tree broadphase, then fcl_rs::collide on RS trees
 };
-constexpr int kNumPairTests = 6;
+constexpr int kNumPairTests = 8;
+/// Every test, in enum order (the index of a test is its enum value; kExact is last).
 constexpr std::array<PairTest, kNumPairTests> kPairTests{
-    {PairTest::kSphere, PairTest::kAABB, PairTest::kOBB, PairTest::kKDOP18, PairTest::kRS, PairTest::kExact}};
-/// "sphere", "aabb", "obb", "kdop18", "rs", "exact".
+    {PairTest::kSphere, PairTest::kAABB, PairTest::kOBB, PairTest::kKDOP18, PairTest::kRS, PairTest::kKDOP18Realigned,
+     PairTest::kRSOneSided, PairTest::kExact}};
+/// "sphere", "aabb", "obb", "kdop18", "rs", "kdop18_realigned", "rs_one_sided", "exact".
 const char* pairTestName(PairTest test);
 
 /// Body pairs (i, j), i < j, in increasing order.
@@ -104,8 +109,11 @@ struct SceneSummary
   std::array<double, kNumPairTests> mean_seconds{};  ///< time per frame
   /// Share of reported pairs whose meshes do not intersect: 1 - sum(exact) / sum(test) (NaN: none reported).
   std::array<double, kNumPairTests> false_positive_rate{};
-  double rs_fewer_than_obb = std::numeric_limits<double>::quiet_NaN();    ///< 100 (OBB - RS) / OBB, totals
-  double kdop18_more_than_rs = std::numeric_limits<double>::quiet_NaN();  ///< 100 (KDOP18 - RS) / RS, totals
+  double rs_fewer_than_obb = std::numeric_limits<double>::quiet_NaN();    ///< -percentMore(kRS, kOBB)
+  double kdop18_more_than_rs = std::numeric_limits<double>::quiet_NaN();  ///< percentMore(kKDOP18, kRS)
+
+  /// 100 (a - b) / b over the run's totals (NaN when b never reported a pair).
+  double percentMore(PairTest a, PairTest b) const;
 };
 
 SceneSummary summarize(const std::vector<FrameRecord>& records);

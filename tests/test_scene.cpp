@@ -419,6 +419,14 @@ TYPED_TEST(SimulatorTest, ExactPairsAreInsideEveryBoundingVolumesPairs)
       for (std::size_t t = 0; t + 1 < pairs.size(); ++t)
         EXPECT_TRUE(contains(pairs[t], p)) << fcl_rs::pairTestName(fcl_rs::kPairTests[t]) << " misses intersecting pair "
                                            << p.first << "-" << p.second;
+    // The two-sided RS test prunes whatever the one-sided one does; a refitted k-DOP lies inside the realigned one.
+    const auto subset = [&pairs](PairTest small, PairTest large) {
+      for (const auto& p : pairs[std::size_t(small)])
+        EXPECT_TRUE(contains(pairs[std::size_t(large)], p)) << fcl_rs::pairTestName(large) << " misses " << p.first << "-"
+                                                            << p.second << " of " << fcl_rs::pairTestName(small);
+    };
+    subset(PairTest::kRS, PairTest::kRSOneSided);
+    subset(PairTest::kKDOP18, PairTest::kKDOP18Realigned);
     if (f % 10 == 0)
     {
       EXPECT_EQ(exact, bruteForceExact(sim));
@@ -540,19 +548,20 @@ TEST(Simulator, MixedSceneOnRealMeshes)
 TEST(Summary, PercentagesFromTotals)
 {
   std::vector<fcl_rs::FrameRecord> records(2);
-  // sphere, aabb, obb, kdop18, rs, exact
-  records[0].count = {{10, 8, 8, 5, 4, 2}};
-  records[1].count = {{6, 4, 2, 3, 2, 0}};
-  records[0].seconds = {{1, 1, 1, 1, 1, 3}};
-  records[1].seconds = {{1, 1, 1, 1, 1, 1}};
+  // sphere, aabb, obb, kdop18, rs, kdop18_realigned, rs_one_sided, exact
+  records[0].count = {{10, 8, 8, 5, 4, 9, 6, 2}};
+  records[1].count = {{6, 4, 2, 3, 2, 3, 2, 0}};
+  records[0].seconds = {{1, 1, 1, 1, 1, 1, 1, 3}};
+  records[1].seconds = {{1, 1, 1, 1, 1, 1, 1, 1}};
   const fcl_rs::SceneSummary s = fcl_rs::summarize(records);
   EXPECT_EQ(s.frames, 2);
-  EXPECT_DOUBLE_EQ(s.mean_count[2], 5);
-  EXPECT_DOUBLE_EQ(s.mean_seconds[5], 2);
+  EXPECT_DOUBLE_EQ(s.mean_count[std::size_t(PairTest::kOBB)], 5);
+  EXPECT_DOUBLE_EQ(s.mean_seconds[std::size_t(PairTest::kExact)], 2);
   EXPECT_DOUBLE_EQ(s.rs_fewer_than_obb, 100.0 * (10 - 6) / 10);
   EXPECT_DOUBLE_EQ(s.kdop18_more_than_rs, 100.0 * (8 - 6) / 6);
-  EXPECT_DOUBLE_EQ(s.false_positive_rate[0], 1 - 2.0 / 16);
-  EXPECT_DOUBLE_EQ(s.false_positive_rate[5], 0);
+  EXPECT_DOUBLE_EQ(s.percentMore(PairTest::kKDOP18Realigned, PairTest::kRSOneSided), 100.0 * (12 - 8) / 8);
+  EXPECT_DOUBLE_EQ(s.false_positive_rate[std::size_t(PairTest::kSphere)], 1 - 2.0 / 16);
+  EXPECT_DOUBLE_EQ(s.false_positive_rate[std::size_t(PairTest::kExact)], 0);
   EXPECT_TRUE(std::isnan(fcl_rs::summarize({}).rs_fewer_than_obb));
 }
 

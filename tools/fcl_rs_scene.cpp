@@ -33,12 +33,12 @@ const char* kUsage =
     "usage: fcl_rs_scene SCENE.json [--frames N] [--csv FILE] [--plot FILE.svg|FILE.png] [--data DIR] [--quiet]\n"
     "\n"
     "Runs the scene's rigid motion and counts, every frame, the body pairs whose root bounding volumes\n"
-    "overlap (bounding sphere, AABB and KDOP18 refitted to the moved meshes, OBB and RS moved with them)\n"
-    "and the pairs whose meshes intersect (FCL broadphase + RS trees). Prints a summary table against the\n"
-    "paper's figures.\n"
+    "overlap (bounding sphere, AABB and KDOP18 refitted to the moved meshes, OBB and RS moved with them;\n"
+    "variants: KDOP18 realigned from the body's own 18-DOP, RS with the paper's one-sided test) and the\n"
+    "pairs whose meshes intersect (FCL broadphase + RS trees). Prints a summary table against the paper.\n"
     "\n"
     "  --frames N   number of frames (default: the scene's)\n"
-    "  --csv FILE   write one row per frame: counts and seconds per test\n"
+    "  --csv FILE   write one row per frame: pairs and CPU seconds per test\n"
     "  --plot FILE  plot the counts per frame with gnuplot (SVG or PNG, by extension)\n"
     "  --data DIR   directory mesh paths in the scene are relative to (default: " FCL_RS_SHARED_DATA_DIR "/models)\n"
     "  --quiet      no progress display\n";
@@ -127,23 +127,36 @@ bool plot(const std::string& csv, const std::string& file, const std::string& ti
     std::cerr << "fcl_rs_scene: gnuplot not found (Debian: gnuplot-nox); plot " << file << " not written\n";
     return false;
   }
+  struct Line
+  {
+    fcl_rs::PairTest test;
+    const char* title;
+    const char* style;
+  };
+  // The paper's volumes and the exact count; the variants are in the CSV only (the plot is busy enough).
+  const Line lines[] = {
+      {fcl_rs::PairTest::kSphere, "bounding sphere", "lw 1 lc rgb '#1f77b4'"},
+      {fcl_rs::PairTest::kAABB, "AABB", "lw 1 lc rgb '#ff7f0e'"},
+      {fcl_rs::PairTest::kOBB, "OBB", "lw 1 lc rgb '#2ca02c'"},
+      {fcl_rs::PairTest::kKDOP18, "KDOP18", "lw 1 lc rgb '#9467bd'"},
+      {fcl_rs::PairTest::kRS, "RS", "lw 1.5 lc rgb '#d62728'"},
+      {fcl_rs::PairTest::kExact, "exact (meshes intersect)", "lw 1.5 lc rgb '#000000'"},
+  };
   const bool svg = std::filesystem::path(file).extension() == ".svg";
   const std::string script = file + ".gnuplot";
   {
     std::ofstream g(script);
-    g << (svg ? "set terminal svg size 960,540 dynamic font 'sans,12' background '#ffffff'\n"
-              : "set terminal pngcairo size 1280,720 font 'sans,12'\n")
+    g << (svg ? "set terminal svg size 1200,500 dynamic font 'sans,12' background '#ffffff'\n"
+              : "set terminal pngcairo size 1500,625 font 'sans,12'\n")
       << "set output " << quoted(file) << "\n"
       << "set datafile separator ','\n"
-      << "set key autotitle columnhead outside right top\n"
+      << "set key autotitle columnhead top left horizontal\n"
       << "set title " << quoted(title) << " noenhanced\n"
-      << "set xlabel 'frame'\nset ylabel 'colliding pairs reported'\nset grid\nset yrange [0:*]\n"
-      << "plot " << quoted(csv) << " using 1:3 with lines lw 1.2 lc rgb '#1f77b4' title 'bounding sphere', \\\n"
-      << "  '' using 1:4 with lines lw 1.2 lc rgb '#ff7f0e' title 'AABB', \\\n"
-      << "  '' using 1:5 with lines lw 1.2 lc rgb '#2ca02c' title 'OBB', \\\n"
-      << "  '' using 1:6 with lines lw 1.2 lc rgb '#9467bd' title 'KDOP18', \\\n"
-      << "  '' using 1:7 with lines lw 1.6 lc rgb '#d62728' title 'RS', \\\n"
-      << "  '' using 1:8 with lines lw 2.0 lc rgb '#000000' title 'exact (meshes intersect)'\n";
+      << "set xlabel 'frame'\nset ylabel 'colliding pairs reported'\nset grid\nset yrange [0:*]\nset offsets 0, 0, graph 0.12, 0\nplot ";
+    for (const Line& l : lines)
+      g << (&l == lines ? quoted(csv) : std::string(", \\\n  ''")) << " using 1:" << 3 + int(l.test)
+        << " with lines " << l.style << " title " << quoted(l.title);
+    g << "\n";
   }
   const int rc = std::system(("gnuplot " + quoted(script) + " 2>&1").c_str());
   std::filesystem::remove(script);
@@ -165,21 +178,28 @@ std::string percent(double v)
 
 void printSummary(const fcl_rs::Scene& scene, const fcl_rs::SceneSummary& s, int bodies)
 {
+  using fcl_rs::PairTest;
   std::printf("\nscene '%s' (%s): %d bodies, %d frames, time step %g s, seed %llu\n", scene.name.c_str(),
               scene.source.c_str(), bodies, s.frames, scene.time_step, (unsigned long long)scene.seed);
-  std::printf("%-8s %12s %16s %14s %12s\n", "test", "pairs/frame", "false positives", "time/frame", "frames/s");
+  std::printf("%-17s %12s %16s %14s %12s\n", "test", "pairs/frame", "false positives", "CPU/frame", "frames/s");
   for (std::size_t t = 0; t < fcl_rs::kPairTests.size(); ++t)
   {
-    const bool exact = fcl_rs::kPairTests[t] == fcl_rs::PairTest::kExact;
-    std::printf("%-8s %12.3f %16s %11.1f us %12.0f\n", fcl_rs::pairTestName(fcl_rs::kPairTests[t]), s.mean_count[t],
+    const bool exact = fcl_rs::kPairTests[t] == PairTest::kExact;
+    std::printf("%-17s %12.3f %16s %11.1f us %12.0f\n", fcl_rs::pairTestName(fcl_rs::kPairTests[t]), s.mean_count[t],
                 exact ? "-" : percent(100 * s.false_positive_rate[t]).c_str(), 1e6 * s.mean_seconds[t],
                 1 / s.mean_seconds[t]);
   }
-  std::printf("%-24s %12s %12s\n", "", "measured", "paper");
-  std::printf("%-24s %12s %12s\n", "RS fewer than OBB", percent(s.rs_fewer_than_obb).c_str(),
+  std::printf("%-40s %12s %12s\n", "", "measured", "paper");
+  std::printf("%-40s %12s %12s\n", "RS fewer than OBB", percent(s.rs_fewer_than_obb).c_str(),
               percent(scene.paper.rs_fewer_than_obb).c_str());
-  std::printf("%-24s %12s %12s\n", "KDOP18 more than RS", percent(s.kdop18_more_than_rs).c_str(),
+  std::printf("%-40s %12s %12s\n", "KDOP18 more than RS", percent(s.kdop18_more_than_rs).c_str(),
               percent(scene.paper.kdop18_more_than_rs).c_str());
+  std::printf("%-40s %12s\n", "RS one-sided fewer than OBB",
+              percent(-s.percentMore(PairTest::kRSOneSided, PairTest::kOBB)).c_str());
+  std::printf("%-40s %12s\n", "KDOP18 realigned more than RS",
+              percent(s.percentMore(PairTest::kKDOP18Realigned, PairTest::kRS)).c_str());
+  std::printf("%-40s %12s\n", "KDOP18 realigned more than RS one-sided",
+              percent(s.percentMore(PairTest::kKDOP18Realigned, PairTest::kRSOneSided)).c_str());
   if (!scene.paper.note.empty()) std::printf("paper: %s\n", scene.paper.note.c_str());
 }
 
@@ -220,9 +240,12 @@ int run(const Options& opt)
     {
       last = now;
       const auto& c = records.back().count;
+      const auto at = [&c](fcl_rs::PairTest t) { return c[std::size_t(t)]; };
       std::fprintf(stderr, "%sframe %d/%d (%3d%%)  pairs: sphere %d aabb %d obb %d kdop18 %d rs %d exact %d%s",
-                   tty ? "\r" : "", f + 1, scene.frames, int(100.0 * (f + 1) / scene.frames), c[0], c[1], c[2], c[3],
-                   c[4], c[5], tty ? "   " : "\n");
+                   tty ? "\r" : "", f + 1, scene.frames, int(100.0 * (f + 1) / scene.frames),
+                   at(fcl_rs::PairTest::kSphere), at(fcl_rs::PairTest::kAABB), at(fcl_rs::PairTest::kOBB),
+                   at(fcl_rs::PairTest::kKDOP18), at(fcl_rs::PairTest::kRS), at(fcl_rs::PairTest::kExact),
+                   tty ? "   " : "\n");
       if (tty && last_frame) std::fprintf(stderr, "\n");
     }
   }
