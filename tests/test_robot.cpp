@@ -350,7 +350,10 @@ TEST(Srdf, ReadsDisabledPairs)
   EXPECT_EQ(disabled[0].link2, "panda_leftfinger");
   EXPECT_EQ(disabled[0].reason, "Adjacent");
   EXPECT_NE(disabled[0].source.find("panda.srdf:"), std::string::npos);
-  if (const RobotModel* ur5 = sharedRobot("ur5")) EXPECT_EQ(sharedSrdf(*ur5).size(), 10u);
+  if (const RobotModel* ur5 = sharedRobot("ur5"))
+  {
+    EXPECT_EQ(sharedSrdf(*ur5).size(), 10u);
+  }
 }
 
 TEST(SelfCollisionPairs, SkipAdjacentAndDisabledPairs)
@@ -434,7 +437,10 @@ void checkAllBVTypesAgree(const RobotModel& robot, const std::vector<DisabledCol
   // Both outcomes occur, so the agreement above is not vacuous.
   EXPECT_GT(colliding, 0) << robot.name;
   EXPECT_LT(colliding, configs) << robot.name;
-  if (std::is_same<S, double>::value) EXPECT_GT(oracle_contacts, 0) << robot.name << ": the oracle saw no contact";
+  if (std::is_same<S, double>::value)
+  {
+    EXPECT_GT(oracle_contacts, 0) << robot.name << ": the oracle saw no contact";
+  }
 }
 
 TYPED_TEST(SelfCheck, TestRobotAllBVTypesAgree)
