@@ -99,12 +99,22 @@ PrincipalFrame<S> hullSurfaceFrame(const ConvexHull& hull)
 /// order[first_primitive .. first_primitive + num_primitives) of node k. (FCL keeps this permutation
 /// private; each leaf gives back its entry.) Throws std::invalid_argument unless model is a built
 /// triangle mesh.
+namespace detail {
+
 template <typename BV>
-std::vector<int> primitiveOrder(const fcl::BVHModel<BV>& model)
+void requireBuiltTriangleTree(const fcl::BVHModel<BV>& model)
 {
   if (model.getModelType() != fcl::BVH_MODEL_TRIANGLES || model.getNumBVs() == 0 ||
       (model.build_state != fcl::BVH_BUILD_STATE_PROCESSED && model.build_state != fcl::BVH_BUILD_STATE_UPDATED))
     throw std::invalid_argument("fcl_rs: the model is not a built triangle-mesh tree");
+}
+
+}  // namespace detail
+
+template <typename BV>
+std::vector<int> primitiveOrder(const fcl::BVHModel<BV>& model)
+{
+  detail::requireBuiltTriangleTree(model);
   std::vector<int> order(std::size_t(model.num_tris), -1);
   for (int k = 0; k < model.getNumBVs(); ++k)
   {
@@ -120,7 +130,7 @@ std::vector<int> primitiveOrder(const fcl::BVHModel<BV>& model)
 template <typename BV, typename Visit>
 void forEachNodeHull(const fcl::BVHModel<BV>& model, Visit visit)
 {
-  const std::vector<int> order = primitiveOrder(model);
+  detail::requireBuiltTriangleTree(model);
   const int num_nodes = model.getNumBVs();
   std::vector<std::vector<Eigen::Vector3d>> pending(static_cast<std::size_t>(num_nodes));
   // FCL numbers children after their parent, so a backward pass sees children first.
