@@ -9,6 +9,10 @@
 #include <fcl/geometry/shape/halfspace.h>
 #include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/ellipsoid.h>
+#include <fcl/geometry/shape/sphere.h>
 #include <fcl/geometry/shape/utility.h>
 #include <fcl/math/bv/utility.h>
 
@@ -35,6 +39,24 @@ RS<S> slabRS(const fcl::Vector3<S>& n, S lower, S upper)
   bv.hi.setConstant(unboundedSlab<S>());
   bv.lo[0] = lower;
   bv.hi[0] = upper;
+  return bv;
+}
+
+/// RS of a shape symmetric about the origin of its frame tf, in that frame, from its support
+/// function (unit direction in the shape's frame -> extent). Exact and cheap, where FCL's generic
+/// path fits a PCA frame to bound vertices at every mesh-shape query.
+template <typename S, typename Support>
+RS<S> symmetricShapeRS(const fcl::Transform3<S>& tf, Support support)
+{
+  RS<S> bv(tf.linear(), tf.translation());
+  // Points of the shape reach the frame through tf's rounding: a few ulps of their magnitude.
+  const S pad = 8 * std::numeric_limits<S>::epsilon() * tf.translation().template lpNorm<1>();
+  for (int k = 0; k < kNumSlabs; ++k)
+  {
+    bv.hi[k] = support(detail::slabDirection<S>(k)) * (1 + 8 * std::numeric_limits<S>::epsilon()) + pad;
+    bv.lo[k] = -bv.hi[k];
+  }
+  bv.updateBoxExcess();
   return bv;
 }
 
@@ -140,6 +162,56 @@ struct ApplyImpl<S, fcl_rs::RS<S>>
   static bool run(const BVSplitter<fcl_rs::RS<S>>& splitter, const Vector3<S>& q)
   {
     return splitter.split_vector.dot(q) > splitter.split_value;
+  }
+};
+
+/// Primitives symmetric about their frame origin get their exact RS in their own frame.
+template <typename S>
+struct ComputeBVImpl<S, fcl_rs::RS<S>, Box<S>>
+{
+  static void run(const Box<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
+  {
+    const Vector3<S> half = s.side / 2;
+    bv = fcl_rs::symmetricShapeRS<S>(tf, [&](const Vector3<S>& d) { return d.cwiseAbs().dot(half); });
+  }
+};
+
+template <typename S>
+struct ComputeBVImpl<S, fcl_rs::RS<S>, Sphere<S>>
+{
+  static void run(const Sphere<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
+  {
+    bv = fcl_rs::symmetricShapeRS<S>(tf, [&](const Vector3<S>&) { return s.radius; });
+  }
+};
+
+template <typename S>
+struct ComputeBVImpl<S, fcl_rs::RS<S>, Ellipsoid<S>>
+{
+  static void run(const Ellipsoid<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
+  {
+    bv = fcl_rs::symmetricShapeRS<S>(tf, [&](const Vector3<S>& d) { return d.cwiseProduct(s.radii).norm(); });
+  }
+};
+
+/// Capsule and cylinder: axis along z, centred at the origin.
+template <typename S>
+struct ComputeBVImpl<S, fcl_rs::RS<S>, Capsule<S>>
+{
+  static void run(const Capsule<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
+  {
+    bv = fcl_rs::symmetricShapeRS<S>(tf, [&](const Vector3<S>& d) { return std::abs(d[2]) * s.lz / 2 + s.radius; });
+  }
+};
+
+template <typename S>
+struct ComputeBVImpl<S, fcl_rs::RS<S>, Cylinder<S>>
+{
+  static void run(const Cylinder<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
+  {
+    bv = fcl_rs::symmetricShapeRS<S>(tf, [&](const Vector3<S>& d) {
+      return std::abs(d[2]) * s.lz / 2 + s.radius * std::sqrt(d[0] * d[0] + d[1] * d[1]);
+    });
   }
 };
 

@@ -82,7 +82,13 @@ std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3
   if (m1) requireBuiltTriangles(*m1);
   if (m2) requireBuiltTriangles(*m2);
   if (m1 && m2)
-    return fcl::detail::orientedMeshCollide<MeshCollisionTraversalNodeRS<S>, RS<S>>(o1, tf1, o2, tf2, request, result);
+  {
+    if (request.isSatisfied(result)) return result.numContacts();
+    MeshCollisionTraversalNodeRS<S> node;
+    initialize(node, *m1, tf1, *m2, tf2, request, result);
+    collideTrees(node);
+    return result.numContacts();
+  }
   // As in fcl::collide, a shape given first is swapped behind the mesh.
   const bool mesh_first = m1 != nullptr;
   const auto* mesh = mesh_first ? o1 : o2;

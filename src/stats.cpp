@@ -30,6 +30,14 @@ QueryStats run(Node& node)
   return QueryStats{node.num_bv_tests, node.num_leaf_tests};
 }
 
+template <typename S>
+QueryStats run(MeshCollisionTraversalNodeRS<S>& node)
+{
+  node.enable_statistics = true;
+  collideTrees(node);
+  return QueryStats{node.num_bv_tests, node.num_leaf_tests};
+}
+
 }  // namespace
 
 template <typename BV>

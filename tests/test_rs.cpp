@@ -2,6 +2,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -228,7 +229,7 @@ TYPED_TEST(RSTest, BoxExcessBoundsTheCornerCutsAndTheFilterIsExact)
     const fcl::Transform3<S> tf = randomPose<S>(rng, S(4));
     const fcl::Matrix3<S> R = tf.linear();
     const fcl::Vector3<S> T = tf.translation();
-    const bool apart = !overlap(R, T, ra, rb);
+    const bool apart = !overlap(R, T, ra, rb, OverlapTest::kTwoSided);
     const bool boxes_apart = !overlap(R, T, ra, rb, OverlapTest::kBoxed);
     EXPECT_EQ(apart, distance(R, T, ra, rb) > 0) << "trial " << trial;
     separated_by_polytopes += apart && !boxes_apart;
@@ -308,6 +309,62 @@ TYPED_TEST(RSTest, CentreAndExtentBallContainsTheVolume)
       EXPECT_LE((bv.toModel(c) - bv.center()).norm(), radius * (1 + tolerance(S(1))) + tolerance(bv.magnitude()));
     EXPECT_NEAR(bv.size(), bv.width() * bv.width() + bv.height() * bv.height() + bv.depth() * bv.depth(),
                 tolerance(bv.size()));
+  }
+}
+
+TYPED_TEST(RSTest, PrimitivesGetTheirExactRSInTheirOwnFrame)
+{
+  using S = TypeParam;
+  using V = fcl::Vector3<S>;
+  auto rng = seededRng("PrimitivesGetTheirExactRS");
+  std::normal_distribution<double> g;
+  // Each primitive's farthest point along a unit direction d of its frame.
+  const fcl::Box<S> box(S(2), S(0.5), S(1));
+  const fcl::Sphere<S> sphere(S(0.7));
+  const fcl::Ellipsoid<S> ellipsoid(S(1), S(0.4), S(0.2));
+  const fcl::Capsule<S> capsule(S(0.3), S(2));
+  const fcl::Cylinder<S> cylinder(S(0.5), S(1.5));
+  auto sgn = [](S v) { return v < 0 ? S(-1) : S(1); };
+  const std::vector<std::pair<std::string, std::function<V(const V&)>>> farthest = {
+      {"box", [&](const V& d) { return V(sgn(d[0]) * 1, sgn(d[1]) * S(0.25), sgn(d[2]) * S(0.5)); }},
+      {"sphere", [&](const V& d) { return V(d * S(0.7)); }},
+      {"ellipsoid", [&](const V& d) {
+         const V a2 = ellipsoid.radii.cwiseProduct(ellipsoid.radii);
+         return V(a2.cwiseProduct(d) / d.cwiseProduct(ellipsoid.radii).norm());
+       }},
+      {"capsule", [&](const V& d) { return V(V(0, 0, sgn(d[2])) + d * S(0.3)); }},
+      {"cylinder", [&](const V& d) {
+         const S r = std::sqrt(d[0] * d[0] + d[1] * d[1]);
+         return r > 0 ? V(S(0.5) * d[0] / r, S(0.5) * d[1] / r, sgn(d[2]) * S(0.75)) : V(0, 0, sgn(d[2]) * S(0.75));
+       }},
+  };
+  for (int trial = 0; trial < 20; ++trial)
+  {
+    const fcl::Transform3<S> tf = randomPose<S>(rng, S(trial < 10 ? 3 : 3000));
+    RS<S> bvs[5];
+    fcl::computeBV(box, tf, bvs[0]);
+    fcl::computeBV(sphere, tf, bvs[1]);
+    fcl::computeBV(ellipsoid, tf, bvs[2]);
+    fcl::computeBV(capsule, tf, bvs[3]);
+    fcl::computeBV(cylinder, tf, bvs[4]);
+    for (int s = 0; s < 5; ++s)
+    {
+      const RS<S>& bv = bvs[s];
+      // Contains the shape's surface ...
+      for (int i = 0; i < 200; ++i)
+      {
+        const V d = fcl::Vector3<double>(g(rng), g(rng), g(rng)).normalized().cast<S>();
+        ASSERT_TRUE(bv.contain(tf * farthest[std::size_t(s)].second(d))) << farthest[std::size_t(s)].first << " trial " << trial;
+      }
+      // ... and each slab touches it: the slab's end is the shape's extreme along that direction.
+      for (int k = 0; k < kNumSlabs; ++k)
+      {
+        const V d = detail::slabDirection<S>(k);
+        const S extreme = d.dot(farthest[std::size_t(s)].second(d));
+        EXPECT_NEAR(bv.hi[k], extreme, tolerance(S(1)) + tolerance(tf.translation().norm())) << farthest[std::size_t(s)].first << " slab " << k;
+        EXPECT_NEAR(bv.lo[k], -extreme, tolerance(S(1)) + tolerance(tf.translation().norm())) << farthest[std::size_t(s)].first << " slab " << k;
+      }
+    }
   }
 }
 
