@@ -11,6 +11,7 @@
 #include "fcl_rs/distance_traversal.h"
 #include "fcl_rs/distance.h"
 #include "fcl_rs/broadphase.h"
+#include "fcl_rs/continuous_collision.h"
 #include "fcl_rs/mesh_io.h"
 #include "fcl_rs/shapes.h"
 #include "fcl_rs/version.h"

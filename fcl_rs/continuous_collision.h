@@ -1,0 +1,115 @@
+// Drop-in fcl_rs::continuousCollide: FCL's naive (sampling) continuous collision with fcl_rs::collide at each sample.
+#ifndef FCL_RS_CONTINUOUS_COLLISION_H
+#define FCL_RS_CONTINUOUS_COLLISION_H
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <fcl/narrowphase/continuous_collision.h>
+
+#include "fcl_rs/collide.h"
+#include "fcl_rs/rs.h"
+
+namespace fcl_rs {
+
+/// Same overloads and meaning as fcl::continuousCollide. Pairs without an RS mesh are passed to
+/// fcl::continuousCollide unchanged. Pairs with an RS mesh support FCL's naive mode (CCDC_NAIVE, the
+/// default): the motions are sampled at n = min(num_max_iterations, ceil(1 / toc_err)) evenly spaced times
+/// (at least the two ends; FCL divides by zero for n = 1) and the first sample where fcl_rs::collide finds a
+/// contact is the time of contact. Unlike FCL's naive mode, request.gjk_solver_type is passed on.
+/// The transform overloads need S = double with linear and screw motions: FCL 0.7's InterpMotion and
+/// ScrewMotion declare integrate(double), so for float they are abstract classes and do not compile.
+/// The other modes throw std::invalid_argument, since FCL cannot run them on RS (and on plain FCL they
+/// report "no collision" for RS meshes, silently):
+///  * CCDC_CONSERVATIVE_ADVANCEMENT dispatches through a table hidden in libfcl.so, and FCL bounds a node's
+///    motion (TBVMotionBoundVisitor) only for RSS; every other BV gets a bound of 0, i.e. "does not move".
+///  * CCDC_POLYNOMIAL_SOLVER switches over FCL's own BV types only; its traversal also tests the models'
+///    BVs as if they were in the world frame (the poses are ignored) and overwrites the caller's vertices.
+///  * CCDC_RAY_SHOOTING is not implemented in FCL 0.7 for any pair.
+template <typename S>
+S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::MotionBase<S>* motion1,
+                    const fcl::CollisionGeometry<S>* o2, const fcl::MotionBase<S>* motion2,
+                    const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result);
+
+template <typename S>
+S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1_beg,
+                    const fcl::Transform3<S>& tf1_end, const fcl::CollisionGeometry<S>* o2,
+                    const fcl::Transform3<S>& tf2_beg, const fcl::Transform3<S>& tf2_end,
+                    const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result)
+{
+  const fcl::MotionBasePtr<S> motion1 = fcl::getMotionBase(tf1_beg, tf1_end, request.ccd_motion_type);
+  const fcl::MotionBasePtr<S> motion2 = fcl::getMotionBase(tf2_beg, tf2_end, request.ccd_motion_type);
+  return fcl_rs::continuousCollide(o1, motion1.get(), o2, motion2.get(), request, result);
+}
+
+/// The objects move from their current transforms to tf1_end and tf2_end.
+template <typename S>
+S continuousCollide(const fcl::CollisionObject<S>* o1, const fcl::Transform3<S>& tf1_end,
+                    const fcl::CollisionObject<S>* o2, const fcl::Transform3<S>& tf2_end,
+                    const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result)
+{
+  if (!o1 || !o2) throw std::invalid_argument("fcl_rs::continuousCollide: null collision object");
+  return fcl_rs::continuousCollide(o1->collisionGeometry().get(), o1->getTransform(), tf1_end,
+                                   o2->collisionGeometry().get(), o2->getTransform(), tf2_end, request, result);
+}
+
+template <typename S>
+S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::MotionBase<S>* motion1,
+                    const fcl::CollisionGeometry<S>* o2, const fcl::MotionBase<S>* motion2,
+                    const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result)
+{
+  if (!o1 || !o2) throw std::invalid_argument("fcl_rs::continuousCollide: null collision geometry");
+  const bool has_rs = dynamic_cast<const fcl::BVHModel<RS<S>>*>(o1) || dynamic_cast<const fcl::BVHModel<RS<S>>*>(o2);
+  if (!has_rs) return fcl::continuousCollide(o1, motion1, o2, motion2, request, result);
+  if (!motion1 || !motion2)
+    throw std::invalid_argument("fcl_rs::continuousCollide: null motion (unknown request.ccd_motion_type?)");
+  switch (request.ccd_solver_type)
+  {
+    case fcl::CCDC_NAIVE: break;
+    case fcl::CCDC_CONSERVATIVE_ADVANCEMENT:
+      throw std::invalid_argument(
+          "fcl_rs::continuousCollide: conservative advancement is not supported for RS meshes (FCL dispatches it "
+          "through a table hidden in libfcl.so and bounds node motion for RSS only); use CCDC_NAIVE");
+    case fcl::CCDC_POLYNOMIAL_SOLVER:
+      throw std::invalid_argument(
+          "fcl_rs::continuousCollide: the polynomial solver is not supported for RS meshes (FCL's switch has no RS "
+          "case, and its traversal ignores the poses and overwrites the models' vertices); use CCDC_NAIVE");
+    case fcl::CCDC_RAY_SHOOTING:
+      throw std::invalid_argument(
+          "fcl_rs::continuousCollide: ray shooting is not implemented in FCL 0.7; use CCDC_NAIVE");
+    default:
+      throw std::invalid_argument("fcl_rs::continuousCollide: unknown request.ccd_solver_type " +
+                                  std::to_string(int(request.ccd_solver_type)));
+  }
+  const std::size_t samples =
+      std::max<std::size_t>(2, std::min(request.num_max_iterations, std::size_t(std::ceil(1 / request.toc_err))));
+  fcl::CollisionRequest<S> collision_request;
+  collision_request.gjk_solver_type = request.gjk_solver_type;
+  fcl::Transform3<S> tf1, tf2;
+  for (std::size_t i = 0; i < samples; ++i)
+  {
+    const S t = S(i) / S(samples - 1);
+    motion1->integrate(t);
+    motion2->integrate(t);
+    motion1->getCurrentTransform(tf1);
+    motion2->getCurrentTransform(tf2);
+    fcl::CollisionResult<S> collision_result;
+    if (fcl_rs::collide(o1, tf1, o2, tf2, collision_request, collision_result))
+    {
+      result.is_collide = true;
+      result.time_of_contact = t;
+      result.contact_tf1 = tf1;
+      result.contact_tf2 = tf2;
+      return t;
+    }
+  }
+  result.is_collide = false;
+  result.time_of_contact = 1;
+  return result.time_of_contact;
+}
+
+}  // namespace fcl_rs
+
+#endif

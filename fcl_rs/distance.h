@@ -1,0 +1,47 @@
+// Drop-in fcl_rs::distance: RS mesh pairs take the local-frame RS path, every other pair goes to fcl::distance.
+#ifndef FCL_RS_DISTANCE_H
+#define FCL_RS_DISTANCE_H
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/narrowphase/collision_object.h>
+#include <fcl/narrowphase/distance_request.h>
+#include <fcl/narrowphase/distance_result.h>
+
+#include "fcl_rs/rs.h"
+
+namespace fcl_rs {
+
+/// Same overloads and meaning as fcl::distance. Pairs with a BVHModel<RS<S>> (mesh-mesh, and mesh
+/// against Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder or Convex in either order) are handled here;
+/// every other pair is passed to fcl::distance unchanged. Mesh-Plane and mesh-Halfspace throw: FCL's
+/// own version of them crashes inside libccd.
+///
+/// As in FCL: a shape given first is swapped behind the mesh, so result.o1, b1 and nearest_points[0]
+/// then refer to the mesh; nearest points are in the world frame; a colliding mesh pair reports 0, and
+/// with enable_signed_distance a negative distance is replaced by minus the deepest contact's
+/// penetration (found by fcl_rs::collide). Unlike FCL's oriented trees, request.rel_err and abs_err
+/// are honoured: the result is within (1 + rel_err) times and abs_err of the true distance.
+/// fcl::distance cannot reach RS (its dispatch table is hidden inside libfcl.so) and would return
+/// max(); this function never does. An RS mesh against anything it cannot handle (another BV type's
+/// mesh, an octree, a TriangleP, a point cloud) throws std::invalid_argument naming the pair.
+template <typename S>
+S distance(const fcl::CollisionObject<S>* o1, const fcl::CollisionObject<S>* o2,
+           const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result);
+
+template <typename S>
+S distance(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1, const fcl::CollisionGeometry<S>* o2,
+           const fcl::Transform3<S>& tf2, const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result);
+
+#define FCL_RS_DECLARE_DISTANCE(S)                                                                            \
+  extern template S distance<S>(const fcl::CollisionObject<S>*, const fcl::CollisionObject<S>*,              \
+                                const fcl::DistanceRequest<S>&, fcl::DistanceResult<S>&);                    \
+  extern template S distance<S>(const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,                 \
+                                const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,                 \
+                                const fcl::DistanceRequest<S>&, fcl::DistanceResult<S>&);
+FCL_RS_DECLARE_DISTANCE(float)
+FCL_RS_DECLARE_DISTANCE(double)
+#undef FCL_RS_DECLARE_DISTANCE
+
+}  // namespace fcl_rs
+
+#endif

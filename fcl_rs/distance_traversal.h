@@ -1,0 +1,173 @@
+// Local-frame distance traversal nodes for RS trees: mesh-mesh (B expressed in A's frame) and mesh-shape.
+#ifndef FCL_RS_DISTANCE_TRAVERSAL_H
+#define FCL_RS_DISTANCE_TRAVERSAL_H
+
+#include <memory>
+#include <type_traits>
+
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/detail/traversal/distance/mesh_distance_traversal_node.h>
+#include <fcl/narrowphase/detail/traversal/distance/mesh_shape_distance_traversal_node.h>
+
+#include "fcl_rs/rs.h"
+#include "fcl_rs/rs_fit.h"
+
+namespace fcl_rs {
+
+/// Mesh-mesh distance in model1's frame, as FCL's MeshDistanceTraversalNodeRSS: a BV test bounds the
+/// distance of model2's node mapped by tf = tf1^-1 tf2; triangle distances and nearest points are in
+/// model1's frame until postprocess() moves the points to the world frame.
+template <typename S>
+class MeshDistanceTraversalNodeRS : public fcl::detail::MeshDistanceTraversalNode<RS<S>>
+{
+public:
+  void preprocess() override
+  {
+    start_distance_ = this->result->min_distance;
+    // Seeds the result with the first triangle pair so that pruning starts from a finite distance.
+    fcl::detail::distancePreprocessOrientedNode(this->model1, this->model2, this->vertices1, this->vertices2,
+                                                this->tri_indices1, this->tri_indices2, 0, 0, tf, this->request,
+                                                *this->result);
+  }
+
+  /// Moves the nearest points to the world frame if this query found them. FCL's version decides by
+  /// result.o1/o2 == model1/model2, which, in a result shared by several queries (the broadphase callbacks), moves
+  /// an earlier query's world points again when two objects share these two geometries.
+  void postprocess() override
+  {
+    if (this->request.enable_nearest_points && this->result->min_distance < start_distance_)
+    {
+      this->result->nearest_points[0] = this->tf1 * this->result->nearest_points[0];
+      this->result->nearest_points[1] = this->tf1 * this->result->nearest_points[1];
+    }
+  }
+
+  S BVTesting(int b1, int b2) const override
+  {
+    if (this->enable_statistics) this->num_bv_tests++;
+    return fcl_rs::distance<S>(tf.linear(), tf.translation(), this->model1->getBV(b1).bv, this->model2->getBV(b2).bv);
+  }
+
+  void leafTesting(int b1, int b2) const override
+  {
+    fcl::detail::meshDistanceOrientedNodeLeafTesting(b1, b2, this->model1, this->model2, this->vertices1,
+                                                     this->vertices2, this->tri_indices1, this->tri_indices2, tf,
+                                                     this->enable_statistics, this->num_leaf_tests, this->request,
+                                                     *this->result);
+  }
+
+  fcl::Transform3<S> tf = fcl::Transform3<S>::Identity();
+
+private:
+  S start_distance_ = 0;
+};
+
+/// Sets up node for model1 at tf1 against model2 at tf2; false unless both are triangle meshes.
+/// Unlike FCL's oriented nodes (whose constructor reads rel_err and abs_err from a default request, so
+/// both are always 0), the request's rel_err and abs_err are honoured.
+template <typename S>
+bool initialize(MeshDistanceTraversalNodeRS<S>& node, const fcl::BVHModel<RS<S>>& model1,
+                const fcl::Transform3<S>& tf1, const fcl::BVHModel<RS<S>>& model2, const fcl::Transform3<S>& tf2,
+                const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+{
+  if (!fcl::detail::setupMeshDistanceOrientedNode(node, model1, tf1, model2, tf2, request, result)) return false;
+  node.rel_err = request.rel_err;
+  node.abs_err = request.abs_err;
+  return true;
+}
+
+/// Lower bound on the distance from a mesh node to a shape: the shape's RS is fitted once per query in
+/// the mesh's frame, then each node costs one RS-RS bound.
+template <typename S, typename Shape>
+class ShapeDistanceBound
+{
+public:
+  ShapeDistanceBound(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh)
+  {
+    fcl::computeBV(shape, shape_in_mesh, bv_);
+  }
+  S distance(const RS<S>& node) const { return node.distance(bv_); }
+
+private:
+  RS<S> bv_;
+};
+
+/// Mesh-shape distance as FCL's MeshShapeDistanceTraversalNodeRSS, but with the shape bounded in the
+/// mesh's frame; leaves use FCL's own triangle-shape distance and nearest points, always in the world frame.
+template <typename Shape, typename NarrowPhaseSolver>
+class MeshShapeDistanceTraversalNodeRS
+  : public fcl::detail::MeshShapeDistanceTraversalNode<RS<typename Shape::S>, Shape, NarrowPhaseSolver>
+{
+public:
+  using S = typename Shape::S;
+
+  /// Seeds the result with triangle 0, as FCL's distancePreprocessOrientedNode.
+  void preprocess() override { triangleDistance(0); }
+
+  void postprocess() override {}
+
+  S BVTesting(int b1, int) const override
+  {
+    if (this->enable_statistics) this->num_bv_tests++;
+    return bound->distance(this->model1->getBV(b1).bv);
+  }
+
+  void leafTesting(int b1, int) const override
+  {
+    if (this->enable_statistics) this->num_leaf_tests++;
+    triangleDistance(this->model1->getBV(b1).primitiveId());
+  }
+
+  std::unique_ptr<ShapeDistanceBound<S, Shape>> bound;
+
+private:
+  /// FCL's meshShapeDistanceOrientedNodeLeafTesting with two faults of FCL's sphere-triangle distance (used by
+  /// both solvers) mended: it writes nothing when the two intersect, so FCL then reports an uninitialized
+  /// distance (here -1, what FCL's other shape-triangle distances report), and it returns each nearest point
+  /// in its own object's frame (here moved to the world frame, like every other shape's).
+  void triangleDistance(int primitive_id) const
+  {
+    const fcl::Triangle& t = this->tri_indices[primitive_id];
+    S d = -1;
+    fcl::Vector3<S> on_mesh = fcl::Vector3<S>::Zero(), on_shape = fcl::Vector3<S>::Zero();
+    const bool apart =
+        this->nsolver->shapeTriangleDistance(*this->model2, this->tf2, this->vertices[t[0]], this->vertices[t[1]],
+                                             this->vertices[t[2]], this->tf1, &d, &on_shape, &on_mesh);
+    if (std::is_same<Shape, fcl::Sphere<S>>::value && apart)
+    {
+      on_shape = this->tf2 * on_shape;
+      on_mesh = this->tf1 * on_mesh;
+    }
+    this->result->update(d, this->model1, this->model2, primitive_id, fcl::DistanceResult<S>::NONE, on_mesh, on_shape);
+  }
+};
+
+/// Sets up node for the mesh model1 at tf1 against model2 at tf2; false unless model1 is a triangle mesh.
+/// rel_err and abs_err come from the request (FCL's mesh-shape nodes fix both at 0).
+template <typename Shape, typename NarrowPhaseSolver>
+bool initialize(MeshShapeDistanceTraversalNodeRS<Shape, NarrowPhaseSolver>& node,
+                const fcl::BVHModel<RS<typename Shape::S>>& model1, const fcl::Transform3<typename Shape::S>& tf1,
+                const Shape& model2, const fcl::Transform3<typename Shape::S>& tf2, const NarrowPhaseSolver* nsolver,
+                const fcl::DistanceRequest<typename Shape::S>& request,
+                fcl::DistanceResult<typename Shape::S>& result)
+{
+  using S = typename Shape::S;
+  if (model1.getModelType() != fcl::BVH_MODEL_TRIANGLES) return false;
+  node.request = request;
+  node.result = &result;
+  node.model1 = &model1;
+  node.tf1 = tf1;
+  node.model2 = &model2;
+  node.tf2 = tf2;
+  node.nsolver = nsolver;
+  node.vertices = model1.vertices;
+  node.tri_indices = model1.tri_indices;
+  node.rel_err = request.rel_err;
+  node.abs_err = request.abs_err;
+  node.bound.reset(new ShapeDistanceBound<S, Shape>(model2, tf1.inverse(Eigen::Isometry) * tf2));
+  return true;
+}
+
+}  // namespace fcl_rs
+
+#endif

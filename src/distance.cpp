@@ -1,0 +1,193 @@
+// fcl_rs::distance: dispatch of RS mesh pairs to the local-frame RS traversal, everything else to FCL.
+#include "fcl_rs/distance.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include <fcl/narrowphase/distance.h>
+#include <fcl/narrowphase/detail/distance_func_matrix.h>
+#include <fcl/narrowphase/detail/gjk_solver_indep.h>
+#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+
+#include "fcl_rs/collide.h"
+#include "fcl_rs/distance_traversal.h"
+
+namespace fcl_rs {
+namespace {
+
+template <typename S>
+const fcl::BVHModel<RS<S>>* asRSMesh(const fcl::CollisionGeometry<S>* g)
+{
+  return dynamic_cast<const fcl::BVHModel<RS<S>>*>(g);
+}
+
+[[noreturn]] void unsupportedPair(int node_type1, int node_type2, const char* why)
+{
+  std::ostringstream msg;
+  msg << "fcl_rs::distance: pair of node types " << node_type1 << " and " << node_type2
+      << " (fcl::NODE_TYPE; an RS mesh reports 0, BV_UNKNOWN) is not supported: " << why;
+  throw std::invalid_argument(msg.str());
+}
+
+template <typename S>
+void requireBuiltTriangles(const fcl::BVHModel<RS<S>>& m)
+{
+  if (m.getModelType() != fcl::BVH_MODEL_TRIANGLES)
+    throw std::invalid_argument("fcl_rs::distance: an RS model must be a triangle mesh (BVH_MODEL_TRIANGLES)");
+  if (m.build_state != fcl::BVH_BUILD_STATE_PROCESSED && m.build_state != fcl::BVH_BUILD_STATE_UPDATED)
+    throw std::invalid_argument("fcl_rs::distance: an RS model's tree is not built (call endModel() first)");
+}
+
+template <typename Shape, typename S, typename Solver>
+S meshShape(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
+            const fcl::CollisionGeometry<S>* shape, const fcl::Transform3<S>& tf_shape, const Solver* solver,
+            const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+{
+  return fcl::detail::orientedBVHShapeDistance<MeshShapeDistanceTraversalNodeRS<Shape, Solver>, RS<S>, Shape, Solver>(
+      mesh, tf_mesh, shape, tf_shape, solver, request, result);
+}
+
+template <typename S, typename Solver>
+S meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
+                    const fcl::CollisionGeometry<S>* shape, const fcl::Transform3<S>& tf_shape, const Solver* solver,
+                    const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+{
+  switch (shape->getNodeType())
+  {
+    case fcl::GEOM_BOX: return meshShape<fcl::Box<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_SPHERE: return meshShape<fcl::Sphere<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_ELLIPSOID:
+      return meshShape<fcl::Ellipsoid<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_CAPSULE: return meshShape<fcl::Capsule<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_CONE: return meshShape<fcl::Cone<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_CYLINDER:
+      return meshShape<fcl::Cylinder<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_CONVEX: return meshShape<fcl::Convex<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
+    case fcl::GEOM_PLANE:
+    case fcl::GEOM_HALFSPACE:
+      // FCL's own mesh-plane/halfspace distance hands the unbounded shape to GJK, which has no support function
+      // for it: fcl::distance on an RSS or OBBRSS mesh crashes there (null call in libccd).
+      unsupportedPair(mesh->getNodeType(), shape->getNodeType(), "FCL has no triangle-plane/halfspace distance");
+    default:
+      unsupportedPair(mesh->getNodeType(), shape->getNodeType(), "FCL has no mesh distance for this shape");
+  }
+}
+
+/// FCL's signed-distance fallback for meshes (distance-inl.h): a negative distance becomes minus the deepest
+/// contact's penetration depth, both nearest points that contact's position (not on the surfaces). Two faults of
+/// FCL's version are avoided: it asks collide() for one contact only, so its "deepest" contact is whichever the
+/// BV type's traversal meets first; and FCL's sphere-triangle test and GJKSolver_indep's triangle tests report
+/// depths as negative numbers, which FCL's search never selects (it then reads past the contact list). Here
+/// every contact is searched, by depth magnitude. Without any contact (the distance and collision tests disagree at their tolerances) the two
+/// objects touch as far as either test can tell: the distance becomes 0.
+template <typename S>
+void signedDistanceFromContacts(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
+                                const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
+                                const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+{
+  fcl::CollisionRequest<S> collision_request(std::numeric_limits<std::size_t>::max(), /*enable_contact=*/true);
+  collision_request.gjk_solver_type = request.gjk_solver_type;
+  fcl::CollisionResult<S> collision_result;
+  fcl_rs::collide(o1, tf1, o2, tf2, collision_request, collision_result);
+  if (collision_result.numContacts() == 0)
+  {
+    result.min_distance = 0;
+    return;
+  }
+  std::size_t index = 0;
+  for (std::size_t i = 1; i < collision_result.numContacts(); ++i)
+    if (std::abs(collision_result.getContact(i).penetration_depth) >
+        std::abs(collision_result.getContact(index).penetration_depth))
+      index = i;
+  const fcl::Contact<S>& deepest = collision_result.getContact(index);
+  result.min_distance = -std::abs(deepest.penetration_depth);
+  if (request.enable_nearest_points)
+  {
+    result.nearest_points[0] = deepest.pos;
+    result.nearest_points[1] = deepest.pos;
+  }
+}
+
+template <typename S, typename Solver>
+S distanceRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1, const fcl::CollisionGeometry<S>* o2,
+             const fcl::Transform3<S>& tf2, const Solver* solver, const fcl::DistanceRequest<S>& request,
+             fcl::DistanceResult<S>& result)
+{
+  const auto* m1 = asRSMesh(o1);
+  const auto* m2 = asRSMesh(o2);
+  if (m1) requireBuiltTriangles(*m1);
+  if (m2) requireBuiltTriangles(*m2);
+  const S start_distance = result.min_distance;
+  S res;
+  if (m1 && m2)
+  {
+    res = fcl::detail::orientedMeshDistance<MeshDistanceTraversalNodeRS<S>, RS<S>>(o1, tf1, o2, tf2, request, result);
+  }
+  else
+  {
+    // As in fcl::distance, a shape given first is swapped behind the mesh (and the result is not swapped back).
+    const bool mesh_first = m1 != nullptr;
+    const auto* mesh = mesh_first ? o1 : o2;
+    const auto* other = mesh_first ? o2 : o1;
+    if (other->getObjectType() != fcl::OT_GEOM)
+      unsupportedPair(o1->getNodeType(), o2->getNodeType(),
+                      "an RS mesh measures distance to RS meshes and primitive shapes only");
+    res = mesh_first ? meshShapeDispatch(mesh, tf1, other, tf2, solver, request, result)
+                     : meshShapeDispatch(mesh, tf2, other, tf1, solver, request, result);
+  }
+  // Only when this query made the distance negative: a result shared by several queries (the broadphase
+  // callbacks) may hold an earlier pair's negative distance.
+  if (request.enable_signed_distance && result.min_distance < 0 && result.min_distance < start_distance)
+    signedDistanceFromContacts(o1, tf1, o2, tf2, request, result);
+  return res;  // fcl::distance also returns the traversal's value, not the signed replacement
+}
+
+}  // namespace
+
+template <typename S>
+S distance(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1, const fcl::CollisionGeometry<S>* o2,
+           const fcl::Transform3<S>& tf2, const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+{
+  if (!o1 || !o2) throw std::invalid_argument("fcl_rs::distance: null collision geometry");
+  if (!asRSMesh(o1) && !asRSMesh(o2)) return fcl::distance(o1, tf1, o2, tf2, request, result);
+  // The same solver set-up as fcl::distance.
+  switch (request.gjk_solver_type)
+  {
+    case fcl::GST_LIBCCD:
+    {
+      fcl::detail::GJKSolver_libccd<S> solver;
+      solver.distance_tolerance = request.distance_tolerance;
+      return distanceRS(o1, tf1, o2, tf2, &solver, request, result);
+    }
+    case fcl::GST_INDEP:
+    {
+      fcl::detail::GJKSolver_indep<S> solver;
+      solver.gjk_tolerance = request.distance_tolerance;
+      return distanceRS(o1, tf1, o2, tf2, &solver, request, result);
+    }
+  }
+  throw std::invalid_argument("fcl_rs::distance: unknown request.gjk_solver_type");
+}
+
+template <typename S>
+S distance(const fcl::CollisionObject<S>* o1, const fcl::CollisionObject<S>* o2,
+           const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+{
+  if (!o1 || !o2) throw std::invalid_argument("fcl_rs::distance: null collision object");
+  return fcl_rs::distance<S>(o1->collisionGeometry().get(), o1->getTransform(), o2->collisionGeometry().get(),
+                             o2->getTransform(), request, result);
+}
+
+#define FCL_RS_INSTANTIATE_DISTANCE(S)                                                                        \
+  template S distance<S>(const fcl::CollisionObject<S>*, const fcl::CollisionObject<S>*,                     \
+                         const fcl::DistanceRequest<S>&, fcl::DistanceResult<S>&);                           \
+  template S distance<S>(const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,                        \
+                         const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,                        \
+                         const fcl::DistanceRequest<S>&, fcl::DistanceResult<S>&);
+FCL_RS_INSTANTIATE_DISTANCE(float)
+FCL_RS_INSTANTIATE_DISTANCE(double)
+#undef FCL_RS_INSTANTIATE_DISTANCE
+
+}  // namespace fcl_rs
