@@ -1,4 +1,6 @@
 // fcl_rs::collideWithStats: one mesh-mesh query on the fastest path FCL offers each BV type, with counts.
+#include <memory>
+
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 #include <fcl/narrowphase/detail/traversal/collision/mesh_collision_traversal_node.h>
 
@@ -57,7 +59,14 @@ QueryStats collideWithStats(const fcl::BVHModel<BV>& model1, const fcl::Transfor
   else
   {
     // Fixed-axis volumes: FCL's generic path moves copies of both meshes to the world frame and rebuilds.
+    // BVHModel's copy constructor shares the original's splitter and fitter, which keep per-build state, so
+    // concurrent queries on one model would race; each copy gets its own (FCL's default mean split).
     fcl::BVHModel<BV> copy1(model1), copy2(model2);
+    for (fcl::BVHModel<BV>* copy : {&copy1, &copy2})
+    {
+      copy->bv_splitter = std::make_shared<fcl::detail::BVSplitter<BV>>(fcl::detail::SPLIT_METHOD_MEAN);
+      copy->bv_fitter = std::make_shared<fcl::detail::BVFitter<BV>>();
+    }
     fcl::Transform3<typename BV::S> t1 = tf1, t2 = tf2;
     fcl::detail::MeshCollisionTraversalNode<BV> node;
     if (!fcl::detail::initialize(node, copy1, t1, copy2, t2, request, result))
