@@ -175,6 +175,23 @@ void subtreeTriangles(const fcl::BVHModel<BV>& m, int i, std::vector<int>& out)
   subtreeTriangles(m, node.rightChild(), out);
 }
 
+/// Nodes from the root down to the leaf of triangle `primitive`.
+template <typename BV>
+std::vector<int> pathToPrimitive(const fcl::BVHModel<BV>& m, int primitive)
+{
+  std::vector<int> path;
+  std::function<bool(int)> descend = [&](int i) {
+    path.push_back(i);
+    const auto& node = m.getBV(i);
+    if (node.isLeaf() ? node.primitiveId() == primitive : descend(node.leftChild()) || descend(node.rightChild()))
+      return true;
+    path.pop_back();
+    return false;
+  };
+  descend(0);
+  return path;
+}
+
 struct DistanceTally
 {
   int poses = 0;
@@ -183,6 +200,7 @@ struct DistanceTally
   double max_rel_obbrss = 0;  // ... against OBBRSS
   double max_point_off = 0;   // max distance of a nearest point from its mesh, / scale
   int node_pairs = 0;
+  double tightness_sum = 0;   // sum over bounded node pairs of traversal bound / true distance
 };
 
 /// Mesh-mesh distance on seeded nearby poses: RS == RSS == OBBRSS, nearest points on the meshes and as far
@@ -231,23 +249,32 @@ void checkMeshPair(const Mesh<S>& a, const Mesh<S>& b, S spread, int n = 200)
       EXPECT_TRUE(close(gap, d, scale)) << "nearest points are " << gap << " apart, distance " << d;
     }
 
-    // Lower bounds: (R, T) as the traversal uses them; the truth is the FCL triangle distance over the subtrees.
+    // Lower bounds, with (R, T) as the traversal uses them: fcl_rs::distance (the 18 slab directions) and the
+    // traversal's distanceLowerBound (also with early exit), against FCL's triangle distance over the subtrees.
+    // Node pairs: the roots, random pairs, and the ancestors of the nearest triangle pair (the tight cases).
     const fcl::Transform3<S> rel = tf1.inverse(Eigen::Isometry) * tf2;
+    const fcl::Matrix3<S> R = rel.linear();
+    const fcl::Vector3<S> T = rel.translation();
     const S true_d = std::max(rss.min_distance, S(0));
     const S slack = 16 * std::numeric_limits<S>::epsilon() * scale;
-    const S root_bound = fcl_rs::distance<S>(rel.linear(), fcl::Vector3<S>(rel.translation()), a.rs->getBV(0).bv,
-                                          b.rs->getBV(0).bv);
-    ok &= root_bound <= true_d + slack;
-    EXPECT_LE(root_bound, true_d + slack) << "root bound exceeds the mesh distance";
-    std::uniform_int_distribution<int> pick1(0, a.rs->getNumBVs() - 1), pick2(0, b.rs->getNumBVs() - 1);
-    for (int k = 0; k < 4; ++k)
-    {
-      const int n1 = pick1(rng), n2 = pick2(rng);
+    const auto check_bounds = [&](int n1, int n2, S truth) {
+      const auto& bv1 = a.rs->getBV(n1).bv;
+      const auto& bv2 = b.rs->getBV(n2).bv;
+      const S slab = fcl_rs::distance<S>(R, T, bv1, bv2);
+      const S bound = fcl_rs::distanceLowerBound<S>(R, T, bv1, bv2);
+      const S early = fcl_rs::distanceLowerBound<S>(R, T, bv1, bv2, truth);
+      ok &= slab <= truth + slack && bound <= truth + slack && early <= truth + slack;
+      EXPECT_LE(slab, truth + slack) << "slab bound of nodes " << n1 << ", " << n2 << " exceeds their distance";
+      EXPECT_LE(bound, truth + slack) << "traversal bound of nodes " << n1 << ", " << n2 << " exceeds their distance";
+      EXPECT_LE(early, truth + slack) << "early-exit bound of nodes " << n1 << ", " << n2 << " exceeds their distance";
+      t.tightness_sum += truth > 0 ? double(bound / truth) : 1.0;
+    };
+    const auto subtree_distance = [&](int n1, int n2) {
       std::vector<int> t1, t2;
       subtreeTriangles(*a.rs, n1, t1);
       subtreeTriangles(*b.rs, n2, t2);
-      if (t1.size() * t2.size() > 4000) continue;  // keeps the brute force cheap; small nodes are the tight ones
-      ++t.node_pairs;
+      // Keeps the brute force cheap; small nodes are the tight ones.
+      if (t1.size() * t2.size() > 4000) return std::numeric_limits<S>::quiet_NaN();
       S sub = std::numeric_limits<S>::max();
       for (int i1 : t1)
         for (int i2 : t2)
@@ -259,16 +286,29 @@ void checkMeshPair(const Mesh<S>& a, const Mesh<S>& b, S spread, int n = 200)
                                   a.tri.vertices[x[0]], a.tri.vertices[x[1]], a.tri.vertices[x[2]],
                                   b.tri.vertices[y[0]], b.tri.vertices[y[1]], b.tri.vertices[y[2]], rel, p, q));
         }
-      const S bound = fcl_rs::distance<S>(rel.linear(), fcl::Vector3<S>(rel.translation()), a.rs->getBV(n1).bv,
-                                       b.rs->getBV(n2).bv);
-      ok &= bound <= sub + slack;
-      EXPECT_LE(bound, sub + slack) << "bound of nodes " << n1 << ", " << n2 << " exceeds their triangles' distance";
+      return sub;
+    };
+    check_bounds(0, 0, true_d);
+    std::uniform_int_distribution<int> pick1(0, a.rs->getNumBVs() - 1), pick2(0, b.rs->getNumBVs() - 1);
+    std::vector<std::pair<int, int>> node_pairs;
+    for (int k = 0; k < 4; ++k) node_pairs.emplace_back(pick1(rng), pick2(rng));
+    const auto path1 = pathToPrimitive(*a.rs, rs.b1), path2 = pathToPrimitive(*b.rs, rs.b2);
+    for (std::size_t up1 = 0; up1 < 4 && up1 < path1.size(); ++up1)
+      for (std::size_t up2 = 0; up2 < 4 && up2 < path2.size(); ++up2)
+        node_pairs.emplace_back(path1[path1.size() - 1 - up1], path2[path2.size() - 1 - up2]);
+    for (const auto& [n1, n2] : node_pairs)
+    {
+      const S sub = subtree_distance(n1, n2);
+      if (std::isnan(sub)) continue;
+      ++t.node_pairs;
+      check_bounds(n1, n2, sub);
     }
     failures += !ok;
   }
   std::cout << "[distance] " << what << ": " << t.poses << " poses, " << t.colliding << " colliding, max rel diff vs RSS "
             << t.max_rel_rss << ", vs OBBRSS " << t.max_rel_obbrss << ", max nearest-point offset / scale "
-            << t.max_point_off << ", " << t.node_pairs << " node pairs bounded\n";
+            << t.max_point_off << ", " << t.node_pairs << " node pairs bounded (mean bound / distance "
+            << t.tightness_sum / std::max(1, t.node_pairs + t.poses) << ")\n";
   EXPECT_LT(failures, 5) << "stopped " << what << " after 5 failing poses";
   // Guards the test itself: both free and colliding poses.
   EXPECT_GE(t.colliding, 1) << what << ": no colliding pose";

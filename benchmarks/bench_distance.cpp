@@ -1,0 +1,479 @@
+// fcl_rs_bench_distance: mesh-mesh distance per query with RS, RSS and OBBRSS trees, and refit time of RS,
+// OBB, RSS and OBBRSS trees after deformation, as ratios measured in one run, with their quality beside them.
+
+#include <fcl_rs/fcl_rs.h>
+
+#include <fcl/math/bv/OBB.h>
+#include <fcl/math/bv/OBBRSS.h>
+#include <fcl/math/bv/RSS.h>
+#include <fcl/narrowphase/distance.h>
+#include <fcl/narrowphase/detail/traversal/distance/mesh_distance_traversal_node.h>
+#include <fcl/narrowphase/detail/traversal/collision_node.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace {
+
+using S = double;
+using Mesh = fcl_rs::TriangleMesh<S>;
+using Clock = std::chrono::steady_clock;
+using fcl::Transform3d;
+using fcl::Vector3d;
+
+constexpr double kMinTimedSeconds = 0.2;  // per timed measurement; short passes are repeated
+constexpr int kMinPasses = 3;
+
+struct Options
+{
+  int queries = 200;
+  int refits = 20;
+  unsigned long long seed = 1;
+  std::string csv;
+};
+
+void printHelp()
+{
+  std::printf(
+      "Usage: fcl_rs_bench_distance [--queries N] [--refits N] [--seed N] [--csv FILE]\n"
+      "\n"
+      "Distance: per mesh pair, N random poses (default 200; uniform rotations, mesh 2's bounding-box centre\n"
+      "at a uniform direction from mesh 1's and a distance uniform in [0.5, 1.5] x (r1 + r2), r = bounding\n"
+      "ball radius, so that a minority of poses collide). RS runs through fcl_rs::distance, RSS and OBBRSS\n"
+      "through fcl::distance (their local-frame oriented traversal); the request is the default one (no\n"
+      "nearest points, rel_err = abs_err = 0). Time: the fastest of repeated passes over all poses, in us per\n"
+      "query; ratios RS / RSS and RS / OBBRSS. Quality: the largest |d - d_RSS| over the poses relative to\n"
+      "r1 + r2, and the BV and triangle tests per query (traversal nodes with statistics on the same poses).\n"
+      "\n"
+      "Refit: per mesh, N successive smooth deformations (a twist plus a travelling wave of 5%% of the mesh\n"
+      "size); each is applied with FCL's update API (beginUpdateModel / updateVertex / endUpdateModel, so\n"
+      "nodes bound the previous and the current frame) bottom-up (leaf fits + merges) and top-down (a fit\n"
+      "per node), and, for reference, as a full rebuild (endUpdateModel(false, ...)). Time: ms per refit\n"
+      "(mean over the N frames, fastest of repeated runs); ratios RS / OBB and RS / OBBRSS. Quality: nodes\n"
+      "that fail to contain a vertex (either frame) of a triangle below them, beyond 1e-9 of the mesh size\n"
+      "(FCL's OBB merge is not conservative), summed over the frames.\n"
+      "\n"
+      "Meshes: generated (torus x ellipsoid, sphere x box) and, when present, FCL's env x rob and bunny x\n"
+      "hand (low-resolution versions) from " FCL_RS_SHARED_DATA_DIR "/models.\n"
+      "  --csv FILE  also write every number to FILE (columns table,case,bv,quantity,value)\n");
+}
+
+unsigned long long number(const std::string& option, const char* text)
+{
+  char* end = nullptr;
+  const unsigned long long n = std::strtoull(text, &end, 10);
+  if (!*text || *end || text[0] == '-') throw std::invalid_argument(option + " needs a non-negative integer");
+  return n;
+}
+
+Options parseOptions(int argc, char** argv)
+{
+  Options opt;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string arg = argv[i];
+    auto value = [&]() -> const char* {
+      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
+      return argv[++i];
+    };
+    if (arg == "--help" || arg == "-h")
+    {
+      printHelp();
+      std::exit(0);
+    }
+    else if (arg == "--queries")
+      opt.queries = int(std::max(1ULL, std::min(number(arg, value()), 100000ULL)));
+    else if (arg == "--refits")
+      opt.refits = int(std::max(1ULL, std::min(number(arg, value()), 10000ULL)));
+    else if (arg == "--seed")
+      opt.seed = number(arg, value());
+    else if (arg == "--csv")
+      opt.csv = value();
+    else
+      throw std::invalid_argument("unknown option " + arg + " (see --help)");
+  }
+  return opt;
+}
+
+/// Long-format CSV: one number per row.
+class Csv
+{
+public:
+  explicit Csv(const std::string& path)
+  {
+    if (path.empty()) return;
+    out_.open(path);
+    if (!out_) throw std::runtime_error("cannot write " + path);
+    out_ << "table,case,bv,quantity,value\n";
+  }
+  void add(const std::string& table, const std::string& what, const std::string& bv, const std::string& quantity,
+           double value)
+  {
+    if (out_.is_open()) out_ << table << ',' << what << ',' << bv << ',' << quantity << ',' << value << '\n';
+  }
+
+private:
+  std::ofstream out_;
+};
+
+/// Seconds per call of run(): the fastest of passes repeated until kMinTimedSeconds have elapsed.
+double timePerCall(const std::function<void()>& run, int calls)
+{
+  double best = std::numeric_limits<double>::max(), total = 0;
+  for (int pass = 0; pass < kMinPasses || total < kMinTimedSeconds; ++pass)
+  {
+    const auto start = Clock::now();
+    run();
+    const double s = std::chrono::duration<double>(Clock::now() - start).count();
+    best = std::min(best, s / calls);
+    total += s;
+  }
+  return best;
+}
+
+struct Ball
+{
+  Vector3d center;
+  double radius;
+};
+
+Ball boundingBall(const Mesh& m)
+{
+  Vector3d lo = m.vertices.front(), hi = lo;
+  for (const auto& v : m.vertices)
+  {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  Ball b{(lo + hi) / 2, 0};
+  for (const auto& v : m.vertices) b.radius = std::max(b.radius, (v - b.center).norm());
+  return b;
+}
+
+Eigen::Matrix3d randomRotation(std::mt19937_64& rng)
+{
+  std::uniform_real_distribution<double> u(0, 1);
+  const double u1 = u(rng), u2 = 2 * M_PI * u(rng), u3 = 2 * M_PI * u(rng);
+  return Eigen::Quaterniond(std::sqrt(u1) * std::cos(u3), std::sqrt(1 - u1) * std::sin(u2),
+                            std::sqrt(1 - u1) * std::cos(u2), std::sqrt(u1) * std::sin(u3))
+      .toRotationMatrix();
+}
+
+struct NamedMesh
+{
+  std::string name;
+  Mesh mesh;
+};
+
+std::vector<std::pair<NamedMesh, NamedMesh>> meshPairs()
+{
+  std::vector<std::pair<NamedMesh, NamedMesh>> pairs = {
+      {{"torus", fcl_rs::makeTorus<S>(1, 0.25, 48, 24)}, {"ellipsoid", fcl_rs::makeEllipsoid<S>(1, 0.5, 0.25)}},
+      {{"sphere", fcl_rs::makeSphere<S>(1)}, {"box", fcl_rs::makeBox<S>(1, 0.4, 0.2)}},
+  };
+  const std::filesystem::path dir = std::filesystem::path(FCL_RS_SHARED_DATA_DIR) / "models";
+  for (const auto& [a, b] : {std::pair<std::string, std::string>{"fcl_env.obj", "fcl_rob.obj"},
+                             std::pair<std::string, std::string>{"bunny_lowres.obj", "hand_lowres.obj"}})
+  {
+    if (std::filesystem::exists(dir / a) && std::filesystem::exists(dir / b))
+      pairs.push_back({{a, fcl_rs::loadMesh<S>((dir / a).string())}, {b, fcl_rs::loadMesh<S>((dir / b).string())}});
+    else
+      std::printf("note: %s or %s missing in %s, pair skipped\n", a.c_str(), b.c_str(), dir.string().c_str());
+  }
+  return pairs;
+}
+
+/// Traversal counts of one query: FCL's oriented node for RSS / OBBRSS, ours for RS (initialize found by ADL).
+template <typename Node, typename BV>
+void countTests(const fcl::BVHModel<BV>& m1, const Transform3d& tf1, const fcl::BVHModel<BV>& m2,
+                const Transform3d& tf2, double& bv_tests, double& leaf_tests)
+{
+  Node node;
+  const fcl::DistanceRequest<S> request;
+  fcl::DistanceResult<S> result;
+  if (!initialize(node, m1, tf1, m2, tf2, request, result)) throw std::logic_error("traversal set-up failed");
+  node.enable_statistics = true;
+  fcl::detail::distance(&node, nullptr, 2);
+  bv_tests += node.num_bv_tests;
+  leaf_tests += node.num_leaf_tests;
+}
+
+void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, Csv& csv)
+{
+  const std::string what = a.name + " x " + b.name;
+  const Ball ba = boundingBall(a.mesh), bb = boundingBall(b.mesh);
+  std::mt19937_64 rng(opt.seed ^ std::hash<std::string>()(what));
+  std::uniform_real_distribution<double> shell(0.5, 1.5);
+  std::normal_distribution<double> g(0, 1);
+  std::vector<Transform3d> tf1(std::size_t(opt.queries)), tf2(std::size_t(opt.queries));
+  for (int i = 0; i < opt.queries; ++i)
+  {
+    Transform3d p = Transform3d::Identity(), q = Transform3d::Identity();
+    p.linear() = randomRotation(rng);
+    p.translation() = -(p.linear() * ba.center);
+    q.linear() = randomRotation(rng);
+    Vector3d dir(g(rng), g(rng), g(rng));
+    dir.normalize();
+    q.translation() = dir * shell(rng) * (ba.radius + bb.radius) - q.linear() * bb.center;
+    tf1[std::size_t(i)] = p;
+    tf2[std::size_t(i)] = q;
+  }
+
+  const auto rs1 = fcl_rs::buildModel<fcl_rs::RSd>(a.mesh), rs2 = fcl_rs::buildModel<fcl_rs::RSd>(b.mesh);
+  const auto rss1 = fcl_rs::buildModel<fcl::RSSd>(a.mesh), rss2 = fcl_rs::buildModel<fcl::RSSd>(b.mesh);
+  const auto ob1 = fcl_rs::buildModel<fcl::OBBRSSd>(a.mesh), ob2 = fcl_rs::buildModel<fcl::OBBRSSd>(b.mesh);
+  const fcl::DistanceRequest<S> request;
+
+  struct Row
+  {
+    const char* bv;
+    std::function<double(std::size_t)> query;
+    std::function<void(std::size_t, double&, double&)> count;
+    std::vector<double> d;
+    double seconds = 0, bv_tests = 0, leaf_tests = 0, max_err = 0;
+  };
+  std::vector<Row> rows;
+  rows.push_back({"RS",
+                  [&](std::size_t i) {
+                    fcl::DistanceResult<S> r;
+                    return fcl_rs::distance<S>(rs1.get(), tf1[i], rs2.get(), tf2[i], request, r);
+                  },
+                  [&](std::size_t i, double& bt, double& lt) {
+                    countTests<fcl_rs::MeshDistanceTraversalNodeRS<S>>(*rs1, tf1[i], *rs2, tf2[i], bt, lt);
+                  },
+                  {}});
+  rows.push_back({"RSS",
+                  [&](std::size_t i) {
+                    fcl::DistanceResult<S> r;
+                    return fcl::distance(rss1.get(), tf1[i], rss2.get(), tf2[i], request, r);
+                  },
+                  [&](std::size_t i, double& bt, double& lt) {
+                    countTests<fcl::detail::MeshDistanceTraversalNodeRSS<S>>(*rss1, tf1[i], *rss2, tf2[i], bt, lt);
+                  },
+                  {}});
+  rows.push_back({"OBBRSS",
+                  [&](std::size_t i) {
+                    fcl::DistanceResult<S> r;
+                    return fcl::distance(ob1.get(), tf1[i], ob2.get(), tf2[i], request, r);
+                  },
+                  [&](std::size_t i, double& bt, double& lt) {
+                    countTests<fcl::detail::MeshDistanceTraversalNodeOBBRSS<S>>(*ob1, tf1[i], *ob2, tf2[i], bt, lt);
+                  },
+                  {}});
+
+  const std::size_t n = tf1.size();
+  for (Row& row : rows)
+  {
+    row.d.resize(n);
+    for (std::size_t i = 0; i < n; ++i) row.d[i] = row.query(i);
+    double sink = 0;
+    row.seconds = timePerCall(
+        [&] {
+          for (std::size_t i = 0; i < n; ++i) sink += row.query(i);
+        },
+        int(n));
+    if (!std::isfinite(sink)) std::printf("(non-finite distance)\n");
+    for (std::size_t i = 0; i < n; ++i) row.count(i, row.bv_tests, row.leaf_tests);
+  }
+  int colliding = 0;
+  const double scale = ba.radius + bb.radius;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    colliding += rows[1].d[i] <= 0;
+    for (Row& row : rows) row.max_err = std::max(row.max_err, std::abs(row.d[i] - rows[1].d[i]) / scale);
+  }
+
+  std::printf("\n%s: %d + %d triangles, %zu poses, %d colliding\n", what.c_str(), int(a.mesh.triangles.size()),
+              int(b.mesh.triangles.size()), n, colliding);
+  std::printf("  %-7s %12s %9s %11s %11s %12s\n", "BV", "us/query", "RS/this", "BV tests", "tri tests",
+              "max err/r");
+  for (const Row& row : rows)
+  {
+    std::printf("  %-7s %12.2f %9.2f %11.1f %11.1f %12.2e\n", row.bv, 1e6 * row.seconds,
+                rows[0].seconds / row.seconds, row.bv_tests / double(n), row.leaf_tests / double(n), row.max_err);
+    csv.add("distance", what, row.bv, "us_per_query", 1e6 * row.seconds);
+    csv.add("distance", what, row.bv, "rs_time_ratio", rows[0].seconds / row.seconds);
+    csv.add("distance", what, row.bv, "bv_tests_per_query", row.bv_tests / double(n));
+    csv.add("distance", what, row.bv, "tri_tests_per_query", row.leaf_tests / double(n));
+    csv.add("distance", what, row.bv, "max_abs_diff_vs_rss_over_r", row.max_err);
+  }
+  csv.add("distance", what, "", "colliding_poses", colliding);
+  csv.add("distance", what, "", "poses", double(n));
+}
+
+// ---- refit ----
+
+/// How far p lies outside bv (negative or 0 inside), per BV type.
+double excess(const fcl_rs::RSd& bv, const Vector3d& p)
+{
+  const Vector3d y = bv.toFrame(p);
+  double e = -std::numeric_limits<double>::max();
+  for (int k = 0; k < fcl_rs::kNumSlabs; ++k)
+  {
+    const double v = fcl_rs::projectOnSlab(y, k);
+    e = std::max({e, v - bv.hi[k], bv.lo[k] - v});
+  }
+  return e;
+}
+
+double excess(const fcl::OBBd& bv, const Vector3d& p)
+{
+  const Vector3d y = bv.axis.transpose() * (p - bv.To);
+  return (y.cwiseAbs() - bv.extent).maxCoeff();
+}
+
+double excess(const fcl::RSSd& bv, const Vector3d& p)
+{
+  const Vector3d y = bv.axis.transpose() * (p - bv.To);
+  const Vector3d on_rectangle(std::clamp(y[0], 0.0, bv.l[0]), std::clamp(y[1], 0.0, bv.l[1]), 0);
+  return (y - on_rectangle).norm() - bv.r;
+}
+
+double excess(const fcl::OBBRSSd& bv, const Vector3d& p)
+{
+  return std::max(excess(bv.obb, p), excess(bv.rss, p));
+}
+
+/// Nodes of the tree that miss (by more than tol) a vertex of a triangle below them, in either frame.
+template <typename BV>
+int violations(const fcl::BVHModel<BV>& model, const Mesh& now, const Mesh& before, double tol)
+{
+  int bad = 0;
+  std::function<std::vector<int>(int)> visit = [&](int node) -> std::vector<int> {
+    const auto& nd = model.getBV(node);
+    std::vector<int> below;
+    if (nd.isLeaf())
+      below.push_back(nd.primitiveId());
+    else
+    {
+      below = visit(nd.leftChild());
+      const auto right = visit(nd.rightChild());
+      below.insert(below.end(), right.begin(), right.end());
+    }
+    double worst = -1;
+    for (int t : below)
+      for (int c = 0; c < 3; ++c)
+      {
+        const auto v = now.triangles[std::size_t(t)][c];
+        worst = std::max({worst, excess(nd.bv, now.vertices[v]), excess(nd.bv, before.vertices[v])});
+      }
+    bad += worst > tol;
+    return below;
+  };
+  visit(0);
+  return bad;
+}
+
+/// Frame f of a smooth deformation: a twist about z growing with f plus a travelling wave.
+Mesh deformed(const Mesh& rest, const Ball& ball, int f)
+{
+  Mesh m = rest;
+  const double t = 0.3 * f, k = 3 / ball.radius;
+  for (auto& v : m.vertices)
+  {
+    const Vector3d p = (v - ball.center) / ball.radius;
+    const double angle = 0.2 * std::sin(t) * p[2];
+    const Vector3d twisted(std::cos(angle) * p[0] - std::sin(angle) * p[1],
+                           std::sin(angle) * p[0] + std::cos(angle) * p[1], p[2]);
+    const Vector3d wave(std::sin(k * v[1] + t), std::sin(k * v[2] + 2 * t), std::sin(k * v[0] + 3 * t));
+    v = ball.center + ball.radius * (twisted + 0.05 * wave);
+  }
+  return m;
+}
+
+template <typename BV>
+void refitRow(const char* bv_name, const NamedMesh& nm, const Options& opt, Csv& csv, double reference[3])
+{
+  const Ball ball = boundingBall(nm.mesh);
+  std::vector<Mesh> frames;
+  frames.reserve(std::size_t(opt.refits + 1));
+  frames.push_back(nm.mesh);
+  for (int f = 1; f <= opt.refits; ++f) frames.push_back(deformed(nm.mesh, ball, f));
+
+  struct Kind
+  {
+    const char* name;
+    bool refit, bottomup;
+  };
+  const Kind kinds[] = {{"bottom-up", true, true}, {"top-down", true, false}, {"rebuild", false, true}};
+  double ms[3];
+  int bad[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    std::shared_ptr<fcl::BVHModel<BV>> model;
+    auto run = [&](bool check) {
+      model = fcl_rs::buildModel<BV>(nm.mesh);
+      int wrong = 0;
+      for (int f = 1; f <= opt.refits; ++f)
+      {
+        model->beginUpdateModel();
+        for (const auto& v : frames[std::size_t(f)].vertices) model->updateVertex(v);
+        model->endUpdateModel(kinds[k].refit, kinds[k].bottomup);
+        if (check) wrong += violations(*model, frames[std::size_t(f)], frames[std::size_t(f - 1)], 1e-9 * ball.radius);
+      }
+      return wrong;
+    };
+    bad[k] = run(true);
+    // Timed: the frames only (the initial build is timed apart by subtracting a build-only run).
+    const double with_build = timePerCall([&] { run(false); }, 1);
+    const double build_only = timePerCall([&] { model = fcl_rs::buildModel<BV>(nm.mesh); }, 1);
+    ms[k] = 1e3 * std::max(0.0, with_build - build_only) / opt.refits;
+  }
+  std::printf("  %-7s", bv_name);
+  for (int k = 0; k < 3; ++k)
+  {
+    if (reference[k] == 0) reference[k] = ms[k];  // RS comes first
+    std::printf(" %10.3f %7.2f %6d |", ms[k], reference[k] / ms[k], bad[k]);
+    csv.add("refit", nm.name, bv_name, std::string(kinds[k].name) + "_ms", ms[k]);
+    csv.add("refit", nm.name, bv_name, std::string(kinds[k].name) + "_rs_time_ratio", reference[k] / ms[k]);
+    csv.add("refit", nm.name, bv_name, std::string(kinds[k].name) + "_nonconservative_nodes", bad[k]);
+  }
+  std::printf("\n");
+}
+
+void benchRefit(const NamedMesh& nm, const Options& opt, Csv& csv)
+{
+  std::printf("\n%s (%d triangles), %d frames; per column: ms per refit, RS/this, nodes missing a vertex\n",
+              nm.name.c_str(), int(nm.mesh.triangles.size()), opt.refits);
+  std::printf("  %-7s %27s | %26s | %26s |\n", "BV", "bottom-up refit", "top-down refit", "rebuild");
+  double reference[3] = {0, 0, 0};
+  refitRow<fcl_rs::RSd>("RS", nm, opt, csv, reference);
+  refitRow<fcl::OBBd>("OBB", nm, opt, csv, reference);
+  refitRow<fcl::RSSd>("RSS", nm, opt, csv, reference);
+  refitRow<fcl::OBBRSSd>("OBBRSS", nm, opt, csv, reference);
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  try
+  {
+    const Options opt = parseOptions(argc, argv);
+    Csv csv(opt.csv);
+    const auto pairs = meshPairs();
+    std::printf("Distance per query (double); RS/this = RS time / this BV's time (below 1: RS is faster)\n");
+    for (const auto& [a, b] : pairs) benchDistance(a, b, opt, csv);
+    std::printf("\nRefit after deformation (double), FCL's update API\n");
+    for (const auto& [a, b] : pairs) benchRefit(a, opt, csv);
+    if (!opt.csv.empty()) std::printf("\nCSV written to %s\n", opt.csv.c_str());
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "fcl_rs_bench_distance: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
