@@ -2,6 +2,11 @@
 #include "fcl_rs/mesh_io.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
@@ -33,6 +38,55 @@ void checkFinite(const aiScene& scene, const std::string& path)
         fail(path, msg.str());
       }
     }
+  }
+}
+
+/// Checks the headers of OFF and PLY files before assimp reads them; fuzz_mesh_load found two ways assimp fails
+/// on them. Its readers allocate what a header declares before reading the data (a 310-byte OFF file declaring
+/// 1.3e9 vertices took 16 GB), and every declared vertex, face or PLY element takes at least one byte of the
+/// file, so a larger count is an error. Its PLY reader loops forever on a header without `end_header`.
+void checkHeader(const std::string& path)
+{
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  std::ifstream in(path, std::ios::binary);
+  if (ec || !in) return;  // assimp names unreadable files
+  const auto fail_header = [&](const std::string& problem) {
+    throw std::runtime_error("fcl_rs: cannot read mesh file '" + path + "': " + problem);
+  };
+  const auto check = [&](const std::string& count, const std::string& what) {
+    char* end = nullptr;
+    const long double n = std::strtold(count.c_str(), &end);
+    if (end == count.c_str() || *end) return;  // not a number: assimp's parser reports it
+    if (n > (long double)size)
+      fail_header("its header declares " + count + " " + what + " but the file has only " + std::to_string(size) +
+                  " bytes");
+  };
+  std::string token;
+  in >> token;
+  if (token == "ply")
+  {
+    for (std::string line; std::getline(in, line);)
+    {
+      std::istringstream words(line);
+      std::string keyword, name, count;
+      if (!(words >> keyword)) continue;
+      if (keyword == "end_header") return;
+      if (keyword == "element" && words >> name >> count) check(count, "'" + name + "' elements");
+    }
+    fail_header("its PLY header has no end_header line");
+  }
+  else if (token.size() >= 3 && token.compare(token.size() - 3, 3, "OFF") == 0)
+  {
+    // The vertex and face counts follow the keyword, possibly after comment lines.
+    std::string counts[2];
+    for (int i = 0; i < 2 && in >> token;)
+      if (token[0] == '#')
+        in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+      else
+        counts[i++] = token;
+    check(counts[0], "vertices");
+    check(counts[1], "faces");
   }
 }
 
@@ -71,6 +125,7 @@ void appendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& par
 
 TriangleMesh<double> loadMeshFile(const std::string& path)
 {
+  checkHeader(path);
   Assimp::Importer importer;
   // Validation alone first (assimp checks face indices against the vertex count), then our own check of the raw
   // coordinates, then the post-processing.
@@ -78,7 +133,9 @@ TriangleMesh<double> loadMeshFile(const std::string& path)
   if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
     throw std::runtime_error("fcl_rs: cannot read mesh file '" + path + "': " + importer.GetErrorString());
   checkFinite(*scene, path);
-  scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+  // No aiProcess_SortByPType: appendNode keeps 3-index faces itself, and that step crashes (SIGBUS) on a mesh that
+  // mixes points and polygons (fuzz_mesh_load found it).
+  scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
   if (!scene) throw std::runtime_error("fcl_rs: cannot process mesh file '" + path + "': " + importer.GetErrorString());
   TriangleMesh<double> mesh;
   Counts dropped;

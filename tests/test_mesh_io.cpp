@@ -80,6 +80,17 @@ TEST(MeshIo, BadFilesNameTheFileAndTheProblem)
       {writeFile("garbage.ply", std::string("ply\nformat binary_little_endian 1.0\nelement vertex 99999\n") +
                                     "property float x\nend_header\n\x01\x02\x03"),
        "cannot read"},
+      // Headers declaring more elements than the file has bytes: assimp would allocate them first (fuzz_mesh_load
+      // found a 310-byte OFF file that took 16 GB).
+      {writeFile("huge.off", "OFF\n353535235358 6 0\n-0.5 -0.5 0.5\n0.5 -0.5 0.5\n"), "declares 353535235358 vertices"},
+      {writeFile("huge_faces.off", "COFF\n# a comment\n3 4000000000 0\n0 0 0\n1 0 0\n0 1 0\n"), "declares 4000000000 faces"},
+      {writeFile("huge.ply", std::string("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n") +
+                                 "element face 100000000000\nproperty list uchar int vertex_indices\nend_header\n"),
+       "declares 100000000000 'face' elements but the file has only"},
+      // A PLY header without end_header: assimp's reader would loop forever (found by fuzz_mesh_load).
+      {writeFile("unended.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproper 0.0 0 1\n"
+                                "0\n1\n2\n"),
+       "its PLY header has no end_header line"},
       // Non-triangle faces: points and lines only (polygons are triangulated, see below).
       {writeFile("lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n"), "no triangles (0 point and 2 line"},
       {writeFile("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1\np 2 3\n"), "no triangles (3 point and 0 line"},
@@ -137,6 +148,14 @@ TEST(MeshIo, PolygonsAreTriangulatedAndStrayLinesDropped)
   const auto mixed = loadMesh<float>(writeFile("mixed.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nl 1 4\np 4\n"));
   EXPECT_EQ(mixed.triangles.size(), 1u);
   validateMesh(mixed.vertices, mixed.triangles);
+  // One PLY mesh mixing a point face with a quad and a triangle (assimp's SortByPType step crashed on this; found
+  // by fuzz_mesh_load).
+  const auto points_and_polygons = loadMesh<double>(writeFile(
+      "points_and_polygons.ply", std::string("ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty ") +
+                                     "float y\nproperty float z\nelement face 3\nproperty list uchar int vertex_indices\n"
+                                     "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 4\n4 0 1 2 3\n3 0 1 4\n"));
+  EXPECT_EQ(points_and_polygons.triangles.size(), 3u);
+  validateMesh(points_and_polygons.vertices, points_and_polygons.triangles);
 }
 
 template <typename S>
