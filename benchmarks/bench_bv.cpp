@@ -5,7 +5,7 @@
 // dozen triangles) of a generated torus, paired under random relative poses. Every BV type is fitted
 // to the same point sets and tested on the same pairs; a pair joins the "overlapping" pool only when
 // every type reports overlap and the "separated" pool only when every type reports separation (RS by
-// its default two-sided test; the other overlap tests run on the same pools).
+// its default overlap test; the other overlap tests run on the same pools).
 //
 // Fit workload: the corners of the first N/3 triangles of the torus (three per triangle, as the tree
 // builders fit them). RS is fitted with each frame fit (Fit/RS/vertices is the paper's and the default).

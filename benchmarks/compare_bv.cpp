@@ -59,8 +59,8 @@ void printHelp()
       "\n"
       "Compares the RS bounding volume with FCL's OBB, RSS, OBBRSS, kIOS, AABB, KDOP16, KDOP18 and\n"
       "KDOP24 on mesh-mesh collision queries (double precision, same random poses for every type).\n"
-      "RS runs with each overlap test: RS (two-sided, the default and the reference), RS-one (one-sided)\n"
-      "and RS-box (boxed).\n"
+      "RS runs with each overlap test: RS (the default, boxed, and the reference), RS-two (two-sided) and\n"
+      "RS-one (one-sided).\n"
       "\n"
       "Without files: generated pairs (sphere x torus, ellipsoid x ellipsoid, diamond x box), assimp\n"
       "test models in " FCL_RS_ASSIMP_MODELS_DIR " (STL/Spider_binary.stl x itself,\n"
@@ -321,7 +321,7 @@ fcl_rs::QueryStats localQuery(const fcl::BVHModel<BV>& ma, const Pose& p, const 
 // RS, OBB, RSS, OBBRSS, kIOS: trees built once in the mesh frames, traversal with the relative pose.
 template <typename BV>
 Row measureLocal(const Context& ctx, const std::string& name, Verdicts& v,
-                 fcl_rs::OverlapTest test = fcl_rs::OverlapTest::kTwoSided)
+                 fcl_rs::OverlapTest test = fcl_rs::kDefaultOverlapTest)
 {
   Row row = newRow(ctx, name, "local");
   const auto& poses = ctx.poses;
@@ -532,8 +532,8 @@ std::vector<Row> runPair(const MeshPair& pair, std::size_t index, const Options&
   std::vector<Row> rows;
   rows.push_back(measureLocal<fcl_rs::RSd>(rs_ctx, "RS", rs_verdicts));
   Context ctx{pair, poses, &rs_verdicts, progress, disagreements, notes};
+  rows.push_back(measureLocal<fcl_rs::RSd>(ctx, "RS-two", v, fcl_rs::OverlapTest::kTwoSided));
   rows.push_back(measureLocal<fcl_rs::RSd>(ctx, "RS-one", v, fcl_rs::OverlapTest::kOneSided));
-  rows.push_back(measureLocal<fcl_rs::RSd>(ctx, "RS-box", v, fcl_rs::OverlapTest::kBoxed));
   rows.push_back(measureLocal<fcl::OBB<S>>(ctx, "OBB", v));
   rows.push_back(measureLocal<fcl::RSS<S>>(ctx, "RSS", v));
   rows.push_back(measureLocal<fcl::OBBRSS<S>>(ctx, "OBBRSS", v));
@@ -616,8 +616,9 @@ int main(int argc, char** argv)
               "  'all' = exhaustive request, 'first' = num_max_contacts 1; BV tests, tri tests (triangle pairs)\n"
               "  and contacts are means per exhaustive query; collide = colliding share; disagree = poses whose\n"
               "  verdict (all or first) differs from RS's, each one checked by brute force below its table.\n"
-              "RS = default two-sided overlap test (the reference); RS-one = the paper's one-sided test (b's\n"
-              "  polytope on a's nine directions); RS-box = each volume's slabs against the other's principal box.\n"
+              "RS = the default overlap test, boxed: each volume's slabs against the other's principal box (the\n"
+              "  reference); RS-two = both polytopes on all 18 slab directions; RS-one = the paper's one-sided test\n"
+              "  (b's polytope on a's nine directions).\n"
               "paths: local = relative-transform traversal of trees built once (RS, OBB, RSS, OBBRSS, kIOS);\n"
               "  world-tree = AABB/KDOP traversal of world-frame trees prebuilt outside the timer;\n"
               "  fcl-rebuild = FCL's own AABB/KDOP path (copy both models, rebuild them in the world frame in\n"

@@ -98,7 +98,7 @@ void printHelp()
       "\n"
       "Poses: uniform random rotations for both copies, the second one's centre uniform in a ball\n"
       "calibrated per mesh (with RS) so that about %.0f%% of the poses collide. A pose counts as colliding\n"
-      "when the default RS tree (two-sided, vertices) finds a contact; every type is timed on the same\n"
+      "when the default RS tree (vertex frames) finds a contact; every type is timed on the same\n"
       "colliding and separated poses.\n"
       "Paths: 'local' = trees built once in the mesh frame, traversal with the relative transform (RS,\n"
       "OBB, RSS, OBBRSS, kIOS); 'world-tree' = AABB/KDOP trees rebuilt in the world frame for each pose\n"
@@ -625,7 +625,7 @@ Row measureLocal(const Context& ctx, const std::string& name)
   row.refit_ms = refitMs(ctx, *model);
   ctx.progress.stage(name + " tightness");
   row.tight = tightness(*model, ctx.hulls);
-  measureLocalQueries(ctx, *model, OverlapTest::kTwoSided, row);
+  measureLocalQueries(ctx, *model, fcl_rs::kDefaultOverlapTest, row);
   return row;
 }
 

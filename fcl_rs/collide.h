@@ -46,7 +46,7 @@ QueryStats collideWithStats(const fcl::BVHModel<BV>& model1, const fcl::Transfor
                             const fcl::CollisionRequest<typename BV::S>& request,
                             fcl::CollisionResult<typename BV::S>& result);
 
-/// collideWithStats for RS trees with a chosen overlap test (the other overloads use kTwoSided).
+/// collideWithStats for RS trees with a chosen overlap test (the other overloads use kDefaultOverlapTest).
 template <typename S>
 QueryStats collideWithStats(const fcl::BVHModel<RS<S>>& model1, const fcl::Transform3<S>& tf1,
                             const fcl::BVHModel<RS<S>>& model2, const fcl::Transform3<S>& tf2,

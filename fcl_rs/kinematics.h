@@ -85,7 +85,7 @@ public:
     fcl::VectorX<S> q(lower_.size());
     for (int i = 0; i < q.size(); ++i)
     {
-      std::uniform_real_distribution<double> u(double(lower_[i]), double(upper_[i]));
+      std::uniform_real_distribution<double> u{double(lower_[i]), double(upper_[i])};
       q[i] = std::min(std::max(S(u(rng)), lower_[i]), upper_[i]);  // rounding to float may leave the range
     }
     return q;

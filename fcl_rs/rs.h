@@ -117,11 +117,14 @@ enum class OverlapTest
   kBoxed,     ///< each volume's nine slabs against the other's principal box; builds no corners
 };
 
+/// The test fcl_rs::collide, the traversal nodes and overlap() use unless told otherwise.
+constexpr OverlapTest kDefaultOverlapTest = OverlapTest::kBoxed;
+
 /// Overlap test in FCL's convention: b2 is mapped into b1's coordinates by x1 = R x2 + T.
 /// Padded by the rounding error of the transform and of the corner arithmetic.
 template <typename S>
 bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2,
-             OverlapTest test = OverlapTest::kTwoSided);
+             OverlapTest test = kDefaultOverlapTest);
 
 /// Lower bound on the distance between b1 and b2 (b2 mapped by x1 = R x2 + T): the largest gap
 /// over the 18 slab directions, minus rounding. P (in b1's coordinates) and Q (in b2's) receive

@@ -39,7 +39,7 @@ public:
 
   fcl::Matrix3<S> R;
   fcl::Vector3<S> T;
-  OverlapTest test = OverlapTest::kTwoSided;
+  OverlapTest test = kDefaultOverlapTest;
 };
 
 /// Sets up node for model1 at tf1 against model2 at tf2; false unless both are triangle meshes.
@@ -57,7 +57,6 @@ bool initialize(MeshCollisionTraversalNodeRS<S>& node, const fcl::BVHModel<RS<S>
 template <typename S>
 void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
 {
-  using Node = MeshCollisionTraversalNodeRS<S>;
   const fcl::BVHModel<RS<S>>& model1 = *node.model1;
   const fcl::BVHModel<RS<S>>& model2 = *node.model2;
   std::vector<std::pair<int, int>> stack;
@@ -67,13 +66,13 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
   {
     const auto [b1, b2] = stack.back();
     stack.pop_back();
-    if (node.Node::BVTesting(b1, b2)) continue;
+    if (node.MeshCollisionTraversalNodeRS<S>::BVTesting(b1, b2)) continue;
     const fcl::BVNode<RS<S>>& n1 = model1.getBV(b1);
     const fcl::BVNode<RS<S>>& n2 = model2.getBV(b2);
     const bool leaf1 = n1.isLeaf(), leaf2 = n2.isLeaf();
     if (leaf1 && leaf2)
     {
-      node.Node::leafTesting(b1, b2);
+      node.MeshCollisionTraversalNodeRS<S>::leafTesting(b1, b2);
       if (node.request.isSatisfied(*node.result)) return;
     }
     else if (leaf2 || (!leaf1 && n1.bv.size() > n2.bv.size()))
