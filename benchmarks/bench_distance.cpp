@@ -1,7 +1,7 @@
 // fcl_rs_bench_distance: mesh-mesh distance per query with RS, RSS and OBBRSS trees, and refit time of RS,
 // OBB, RSS and OBBRSS trees after deformation, as ratios measured in one run, with their quality beside them.
 
-#include <fcl_rs/fcl_rs.h>
+#include "bench_common.h"
 
 #include <fcl/math/bv/OBB.h>
 #include <fcl/math/bv/OBBRSS.h>
@@ -11,7 +11,6 @@
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -20,18 +19,13 @@
 #include <functional>
 #include <limits>
 #include <memory>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace {
 
-using S = double;
-using Mesh = fcl_rs::TriangleMesh<S>;
-using Clock = std::chrono::steady_clock;
-using fcl::Transform3d;
-using fcl::Vector3d;
+using namespace fcl_rs::bench;
 
 constexpr double kMinTimedSeconds = 0.2;  // per timed measurement; short passes are repeated
 constexpr int kMinPasses = 3;
@@ -68,14 +62,6 @@ void printHelp()
       "Meshes: generated (torus x ellipsoid, sphere x box) and, when present, FCL's env x rob and bunny x\n"
       "hand (low-resolution versions) from " FCL_RS_SHARED_DATA_DIR "/models.\n"
       "  --csv FILE  also write every number to FILE (columns table,case,bv,quantity,value)\n");
-}
-
-unsigned long long number(const std::string& option, const char* text)
-{
-  char* end = nullptr;
-  const unsigned long long n = std::strtoull(text, &end, 10);
-  if (!*text || *end || text[0] == '-') throw std::invalid_argument(option + " needs a non-negative integer");
-  return n;
 }
 
 Options parseOptions(int argc, char** argv)
@@ -129,48 +115,6 @@ private:
 };
 
 /// Seconds per call of run(): the fastest of passes repeated until kMinTimedSeconds have elapsed.
-double timePerCall(const std::function<void()>& run, int calls)
-{
-  double best = std::numeric_limits<double>::max(), total = 0;
-  for (int pass = 0; pass < kMinPasses || total < kMinTimedSeconds; ++pass)
-  {
-    const auto start = Clock::now();
-    run();
-    const double s = std::chrono::duration<double>(Clock::now() - start).count();
-    best = std::min(best, s / calls);
-    total += s;
-  }
-  return best;
-}
-
-struct Ball
-{
-  Vector3d center;
-  double radius;
-};
-
-Ball boundingBall(const Mesh& m)
-{
-  Vector3d lo = m.vertices.front(), hi = lo;
-  for (const auto& v : m.vertices)
-  {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  Ball b{(lo + hi) / 2, 0};
-  for (const auto& v : m.vertices) b.radius = std::max(b.radius, (v - b.center).norm());
-  return b;
-}
-
-Eigen::Matrix3d randomRotation(std::mt19937_64& rng)
-{
-  std::uniform_real_distribution<double> u(0, 1);
-  const double u1 = u(rng), u2 = 2 * M_PI * u(rng), u3 = 2 * M_PI * u(rng);
-  return Eigen::Quaterniond(std::sqrt(u1) * std::cos(u3), std::sqrt(1 - u1) * std::sin(u2),
-                            std::sqrt(1 - u1) * std::cos(u2), std::sqrt(u1) * std::sin(u3))
-      .toRotationMatrix();
-}
-
 struct NamedMesh
 {
   std::string name;
@@ -213,10 +157,8 @@ void countTests(const fcl::BVHModel<BV>& m1, const Transform3d& tf1, const fcl::
 void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, Csv& csv)
 {
   const std::string what = a.name + " x " + b.name;
-  const Ball ba = boundingBall(a.mesh), bb = boundingBall(b.mesh);
-  std::mt19937_64 rng(opt.seed ^ std::hash<std::string>()(what));
-  std::uniform_real_distribution<double> shell(0.5, 1.5);
-  std::normal_distribution<double> g(0, 1);
+  const Sphere ba = boundingSphere(a.mesh), bb = boundingSphere(b.mesh);
+  Random rng(opt.seed ^ std::hash<std::string>()(what));
   std::vector<Transform3d> tf1(std::size_t(opt.queries)), tf2(std::size_t(opt.queries));
   for (int i = 0; i < opt.queries; ++i)
   {
@@ -224,9 +166,12 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
     p.linear() = randomRotation(rng);
     p.translation() = -(p.linear() * ba.center);
     q.linear() = randomRotation(rng);
-    Vector3d dir(g(rng), g(rng), g(rng));
-    dir.normalize();
-    q.translation() = dir * shell(rng) * (ba.radius + bb.radius) - q.linear() * bb.center;
+    Vector3d dir;
+    do
+      dir = randomInUnitBall(rng);
+    while (dir.squaredNorm() < 1e-6);  // a uniform direction once normalised
+    const double shell = 0.5 + rng.uniform();
+    q.translation() = dir.normalized() * shell * (ba.radius + bb.radius) - q.linear() * bb.center;
     tf1[std::size_t(i)] = p;
     tf2[std::size_t(i)] = q;
   }
@@ -279,11 +224,12 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
     row.d.resize(n);
     for (std::size_t i = 0; i < n; ++i) row.d[i] = row.query(i);
     double sink = 0;
-    row.seconds = timePerCall(
-        [&] {
-          for (std::size_t i = 0; i < n; ++i) sink += row.query(i);
-        },
-        int(n));
+    row.seconds = bestSeconds(
+                      [&] {
+                        for (std::size_t i = 0; i < n; ++i) sink += row.query(i);
+                      },
+                      kMinTimedSeconds, kMinPasses) /
+                  double(n);
     if (!std::isfinite(sink)) std::printf("(non-finite distance)\n");
     for (std::size_t i = 0; i < n; ++i) row.count(i, row.bv_tests, row.leaf_tests);
   }
@@ -377,7 +323,7 @@ int violations(const fcl::BVHModel<BV>& model, const Mesh& now, const Mesh& befo
 }
 
 /// Frame f of a smooth deformation: a twist about z growing with f plus a travelling wave.
-Mesh deformed(const Mesh& rest, const Ball& ball, int f)
+Mesh deformed(const Mesh& rest, const Sphere& ball, int f)
 {
   Mesh m = rest;
   const double t = 0.3 * f, k = 3 / ball.radius;
@@ -396,7 +342,7 @@ Mesh deformed(const Mesh& rest, const Ball& ball, int f)
 template <typename BV>
 void refitRow(const char* bv_name, const NamedMesh& nm, const Options& opt, Csv& csv, double reference[3])
 {
-  const Ball ball = boundingBall(nm.mesh);
+  const Sphere ball = boundingSphere(nm.mesh);
   std::vector<Mesh> frames;
   frames.reserve(std::size_t(opt.refits + 1));
   frames.push_back(nm.mesh);
@@ -427,8 +373,8 @@ void refitRow(const char* bv_name, const NamedMesh& nm, const Options& opt, Csv&
     };
     bad[k] = run(true);
     // Timed: the frames only (the initial build is timed apart by subtracting a build-only run).
-    const double with_build = timePerCall([&] { run(false); }, 1);
-    const double build_only = timePerCall([&] { model = fcl_rs::buildModel<BV>(nm.mesh); }, 1);
+    const double with_build = bestSeconds([&] { run(false); }, kMinTimedSeconds, kMinPasses);
+    const double build_only = bestSeconds([&] { model = fcl_rs::buildModel<BV>(nm.mesh); }, kMinTimedSeconds, kMinPasses);
     ms[k] = 1e3 * std::max(0.0, with_build - build_only) / opt.refits;
   }
   std::printf("  %-7s", bv_name);
