@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds and runs every test (CTest). Sets everything up first.
 # Usage: scripts/test.sh [--all]
-#   --all (the default when the CI variable is set) then also runs, each in its own build directory:
+#   --all then also runs, each in its own build directory (not under CI yet: well over an hour on 2 cores, see docs/robustness.md):
 #     build-asan  (clang, -O1) every test executable under AddressSanitizer + UndefinedBehaviorSanitizer, then
 #                 each libFuzzer target for FCL_RS_FUZZ_SECONDS s (default 60) from seed FCL_RS_FUZZ_SEED (default 1)
 #     build-tsan  tests/test_concurrency under ThreadSanitizer
@@ -9,7 +9,6 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 all=0
-[ -n "${CI:-}" ] && all=1
 for arg in "$@"; do
   case "$arg" in
     --all) all=1 ;;
