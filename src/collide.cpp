@@ -1,4 +1,5 @@
 // fcl_rs::collide: dispatch of RS mesh pairs to the local-frame RS traversal, everything else to FCL.
+#include "rs_pairs.h"
 #include "fcl_rs/collide.h"
 
 #include <sstream>
@@ -14,28 +15,9 @@
 namespace fcl_rs {
 namespace {
 
-template <typename S>
-const fcl::BVHModel<RS<S>>* asRSMesh(const fcl::CollisionGeometry<S>* g)
-{
-  return dynamic_cast<const fcl::BVHModel<RS<S>>*>(g);
-}
+using detail::asRSMesh;
 
-[[noreturn]] void unsupportedPair(int node_type1, int node_type2, const char* why)
-{
-  std::ostringstream msg;
-  msg << "fcl_rs::collide: pair of node types " << node_type1 << " and " << node_type2
-      << " (fcl::NODE_TYPE; an RS mesh reports 0, BV_UNKNOWN) is not supported: " << why;
-  throw std::invalid_argument(msg.str());
-}
-
-template <typename S>
-void requireBuiltTriangles(const fcl::BVHModel<RS<S>>& m)
-{
-  if (m.getModelType() != fcl::BVH_MODEL_TRIANGLES)
-    throw std::invalid_argument("fcl_rs::collide: an RS model must be a triangle mesh (BVH_MODEL_TRIANGLES)");
-  if (m.build_state != fcl::BVH_BUILD_STATE_PROCESSED && m.build_state != fcl::BVH_BUILD_STATE_UPDATED)
-    throw std::invalid_argument("fcl_rs::collide: an RS model's tree is not built (call endModel() first)");
-}
+constexpr const char* kApi = "fcl_rs::collide";
 
 template <typename Shape, typename S, typename Solver>
 std::size_t meshShape(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
@@ -68,7 +50,7 @@ std::size_t meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::
     case fcl::GEOM_HALFSPACE:
       return meshShape<fcl::Halfspace<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
     default:
-      unsupportedPair(mesh->getNodeType(), shape->getNodeType(), "FCL has no mesh test for this shape");
+      detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(), "FCL has no mesh test for this shape");
   }
 }
 
@@ -79,8 +61,8 @@ std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3
 {
   const auto* m1 = asRSMesh(o1);
   const auto* m2 = asRSMesh(o2);
-  if (m1) requireBuiltTriangles(*m1);
-  if (m2) requireBuiltTriangles(*m2);
+  if (m1) detail::requireBuiltTriangles(kApi, *m1);
+  if (m2) detail::requireBuiltTriangles(kApi, *m2);
   if (m1 && m2)
   {
     if (request.isSatisfied(result)) return result.numContacts();
@@ -94,7 +76,7 @@ std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3
   const auto* mesh = mesh_first ? o1 : o2;
   const auto* other = mesh_first ? o2 : o1;
   if (other->getObjectType() != fcl::OT_GEOM)
-    unsupportedPair(o1->getNodeType(), o2->getNodeType(),
+    detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
                     "an RS mesh collides with RS meshes and primitive shapes only");
   return mesh_first ? meshShapeDispatch(mesh, tf1, other, tf2, solver, request, result)
                     : meshShapeDispatch(mesh, tf2, other, tf1, solver, request, result);

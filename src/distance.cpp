@@ -1,4 +1,5 @@
 // fcl_rs::distance: dispatch of RS mesh pairs to the local-frame RS traversal, everything else to FCL.
+#include "rs_pairs.h"
 #include "fcl_rs/distance.h"
 
 #include <cmath>
@@ -17,28 +18,9 @@
 namespace fcl_rs {
 namespace {
 
-template <typename S>
-const fcl::BVHModel<RS<S>>* asRSMesh(const fcl::CollisionGeometry<S>* g)
-{
-  return dynamic_cast<const fcl::BVHModel<RS<S>>*>(g);
-}
+using detail::asRSMesh;
 
-[[noreturn]] void unsupportedPair(int node_type1, int node_type2, const char* why)
-{
-  std::ostringstream msg;
-  msg << "fcl_rs::distance: pair of node types " << node_type1 << " and " << node_type2
-      << " (fcl::NODE_TYPE; an RS mesh reports 0, BV_UNKNOWN) is not supported: " << why;
-  throw std::invalid_argument(msg.str());
-}
-
-template <typename S>
-void requireBuiltTriangles(const fcl::BVHModel<RS<S>>& m)
-{
-  if (m.getModelType() != fcl::BVH_MODEL_TRIANGLES)
-    throw std::invalid_argument("fcl_rs::distance: an RS model must be a triangle mesh (BVH_MODEL_TRIANGLES)");
-  if (m.build_state != fcl::BVH_BUILD_STATE_PROCESSED && m.build_state != fcl::BVH_BUILD_STATE_UPDATED)
-    throw std::invalid_argument("fcl_rs::distance: an RS model's tree is not built (call endModel() first)");
-}
+constexpr const char* kApi = "fcl_rs::distance";
 
 template <typename Shape, typename S, typename Solver>
 S meshShape(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
@@ -69,9 +51,9 @@ S meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3
     case fcl::GEOM_HALFSPACE:
       // FCL's own mesh-plane/halfspace distance hands the unbounded shape to GJK, which has no support function
       // for it: fcl::distance on an RSS or OBBRSS mesh crashes there (null call in libccd).
-      unsupportedPair(mesh->getNodeType(), shape->getNodeType(), "FCL has no triangle-plane/halfspace distance");
+      detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(), "FCL has no triangle-plane/halfspace distance");
     default:
-      unsupportedPair(mesh->getNodeType(), shape->getNodeType(), "FCL has no mesh distance for this shape");
+      detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(), "FCL has no mesh distance for this shape");
   }
 }
 
@@ -117,8 +99,8 @@ S distanceRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
 {
   const auto* m1 = asRSMesh(o1);
   const auto* m2 = asRSMesh(o2);
-  if (m1) requireBuiltTriangles(*m1);
-  if (m2) requireBuiltTriangles(*m2);
+  if (m1) detail::requireBuiltTriangles(kApi, *m1);
+  if (m2) detail::requireBuiltTriangles(kApi, *m2);
   const S start_distance = result.min_distance;
   S res;
   if (m1 && m2)
@@ -132,7 +114,7 @@ S distanceRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
     const auto* mesh = mesh_first ? o1 : o2;
     const auto* other = mesh_first ? o2 : o1;
     if (other->getObjectType() != fcl::OT_GEOM)
-      unsupportedPair(o1->getNodeType(), o2->getNodeType(),
+      detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
                       "an RS mesh measures distance to RS meshes and primitive shapes only");
     res = mesh_first ? meshShapeDispatch(mesh, tf1, other, tf2, solver, request, result)
                      : meshShapeDispatch(mesh, tf2, other, tf1, solver, request, result);

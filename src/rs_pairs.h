@@ -1,0 +1,43 @@
+// Shared by the drop-in entry points (src/collide.cpp, src/distance.cpp): recognising RS meshes and the
+// errors for pairs they cannot answer. `api` names the entry point in messages ("fcl_rs::collide").
+#ifndef FCL_RS_SRC_RS_PAIRS_H
+#define FCL_RS_SRC_RS_PAIRS_H
+
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include <fcl/geometry/bvh/BVH_model.h>
+
+#include "fcl_rs/rs.h"
+
+namespace fcl_rs {
+namespace detail {
+
+template <typename S>
+const fcl::BVHModel<RS<S>>* asRSMesh(const fcl::CollisionGeometry<S>* g)
+{
+  return dynamic_cast<const fcl::BVHModel<RS<S>>*>(g);
+}
+
+[[noreturn]] inline void unsupportedPair(const char* api, int node_type1, int node_type2, const char* why)
+{
+  std::ostringstream msg;
+  msg << api << ": pair of node types " << node_type1 << " and " << node_type2
+      << " (fcl::NODE_TYPE; an RS mesh reports 0, BV_UNKNOWN) is not supported: " << why;
+  throw std::invalid_argument(msg.str());
+}
+
+template <typename S>
+void requireBuiltTriangles(const char* api, const fcl::BVHModel<RS<S>>& m)
+{
+  if (m.getModelType() != fcl::BVH_MODEL_TRIANGLES)
+    throw std::invalid_argument(std::string(api) + ": an RS model must be a triangle mesh (BVH_MODEL_TRIANGLES)");
+  if (m.build_state != fcl::BVH_BUILD_STATE_PROCESSED && m.build_state != fcl::BVH_BUILD_STATE_UPDATED)
+    throw std::invalid_argument(std::string(api) + ": an RS model's tree is not built (call endModel() first)");
+}
+
+}  // namespace detail
+}  // namespace fcl_rs
+
+#endif
