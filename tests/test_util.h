@@ -3,6 +3,7 @@
 #define FCL_RS_TESTS_TEST_UTIL_H
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -67,8 +68,10 @@ S meshRadius(const TriangleMesh<S>& m)
 
 using TrianglePairs = std::set<std::pair<int, int>>;
 
-/// Every intersecting triangle pair, by looping over all pairs with FCL's own local-frame triangle test
-/// (x1 = R x2 + T). A padded box check skips pairs that are far apart; it never skips a touching pair.
+/// Every intersecting triangle pair, with FCL's own local-frame triangle test (x1 = R x2 + T) on every pair
+/// whose padded boxes touch. Candidates come from a uniform grid over mesh 2's padded boxes (about one
+/// triangle per cell) rather than a loop over all n x m pairs, so the oracle stays affordable on large
+/// meshes and under the sanitizers; a box is in every cell it overlaps, so no touching pair is skipped.
 template <typename S>
 TrianglePairs bruteForcePairs(const TriangleMesh<S>& m1, const fcl::Transform3<S>& tf1, const TriangleMesh<S>& m2,
                               const fcl::Transform3<S>& tf2)
@@ -80,32 +83,74 @@ TrianglePairs bruteForcePairs(const TriangleMesh<S>& m1, const fcl::Transform3<S
   std::vector<fcl::Vector3<S>> moved;
   moved.reserve(m2.vertices.size());
   for (const auto& v : m2.vertices) moved.push_back(R * v + T);
+  using Box = std::pair<fcl::Vector3<S>, fcl::Vector3<S>>;
   auto box = [](const fcl::Vector3<S>& a, const fcl::Vector3<S>& b, const fcl::Vector3<S>& c) {
-    return std::make_pair(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c));
+    return Box(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c));
   };
   S scale = 0;
   for (const auto& v : m1.vertices) scale = std::max(scale, v.cwiseAbs().maxCoeff());
   for (const auto& v : moved) scale = std::max(scale, v.cwiseAbs().maxCoeff());
   const S pad = 64 * std::numeric_limits<S>::epsilon() * (scale + T.cwiseAbs().maxCoeff());
-  std::vector<std::pair<fcl::Vector3<S>, fcl::Vector3<S>>> boxes2;
-  for (const auto& t : m2.triangles) boxes2.push_back(box(moved[t[0]], moved[t[1]], moved[t[2]]));
-
   TrianglePairs pairs;
+  if (m1.triangles.empty() || m2.triangles.empty()) return pairs;
+
+  // Mesh 2's boxes grown by pad: box 1 touches one of them exactly when the padded check below passes.
+  std::vector<Box> boxes2;
+  Eigen::Vector3d grid_lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector3d grid_hi = -grid_lo;
+  for (const auto& t : m2.triangles)
+  {
+    boxes2.push_back(box(moved[t[0]], moved[t[1]], moved[t[2]]));
+    grid_lo = grid_lo.cwiseMin((boxes2.back().first.array() - pad).matrix().template cast<double>());
+    grid_hi = grid_hi.cwiseMax((boxes2.back().second.array() + pad).matrix().template cast<double>());
+  }
+  const int cells = std::max(1, int(std::cbrt(double(boxes2.size()))));
+  const Eigen::Vector3d cell_size = ((grid_hi - grid_lo) / cells).cwiseMax(std::numeric_limits<double>::min());
+  // Cell index range of [lo, hi]: floor is monotone, so overlapping intervals share a cell.
+  auto cellRange = [&](const fcl::Vector3<S>& lo, const fcl::Vector3<S>& hi, Eigen::Vector3i& first, Eigen::Vector3i& last) {
+    for (int a = 0; a < 3; ++a)
+    {
+      const auto index = [&](S x) {
+        return int(std::clamp(std::floor((double(x) - grid_lo[a]) / cell_size[a]), 0.0, double(cells - 1)));
+      };
+      first[a] = index(lo[a]);
+      last[a] = index(hi[a]);
+    }
+  };
+  auto forCells = [&](const Eigen::Vector3i& first, const Eigen::Vector3i& last, auto visit) {
+    for (int x = first[0]; x <= last[0]; ++x)
+      for (int y = first[1]; y <= last[1]; ++y)
+        for (int z = first[2]; z <= last[2]; ++z) visit((x * cells + y) * cells + z);
+  };
+  std::vector<std::vector<int>> grid(std::size_t(cells) * cells * cells);
+  Eigen::Vector3i first, last;
+  for (std::size_t j = 0; j < boxes2.size(); ++j)
+  {
+    cellRange((boxes2[j].first.array() - pad).matrix(), (boxes2[j].second.array() + pad).matrix(), first, last);
+    forCells(first, last, [&](int cell) { grid[cell].push_back(int(j)); });
+  }
+
+  std::vector<int> seen_by(boxes2.size(), -1);
   for (std::size_t i = 0; i < m1.triangles.size(); ++i)
   {
     const auto& t1 = m1.triangles[i];
-    const auto b1 = box(m1.vertices[t1[0]], m1.vertices[t1[1]], m1.vertices[t1[2]]);
-    for (std::size_t j = 0; j < m2.triangles.size(); ++j)
-    {
-      const auto& b2 = boxes2[j];
-      if (((b1.first.array() - pad) > b2.second.array()).any() || ((b2.first.array() - pad) > b1.second.array()).any())
-        continue;
-      const auto& t2 = m2.triangles[j];
-      if (fcl::detail::Intersect<S>::intersect_Triangle(m1.vertices[t1[0]], m1.vertices[t1[1]], m1.vertices[t1[2]],
-                                                          m2.vertices[t2[0]], m2.vertices[t2[1]], m2.vertices[t2[2]],
-                                                          R, T))
-        pairs.emplace(int(i), int(j));
-    }
+    const Box b1 = box(m1.vertices[t1[0]], m1.vertices[t1[1]], m1.vertices[t1[2]]);
+    cellRange(b1.first, b1.second, first, last);
+    forCells(first, last, [&](int cell) {
+      for (const int j : grid[cell])
+      {
+        if (seen_by[j] == int(i)) continue;
+        seen_by[j] = int(i);
+        const Box& b2 = boxes2[j];
+        if (((b1.first.array() - pad) > b2.second.array()).any() || ((b2.first.array() - pad) > b1.second.array()).any())
+          continue;
+        const auto& t2 = m2.triangles[j];
+        if (fcl::detail::Intersect<S>::intersect_Triangle(m1.vertices[t1[0]], m1.vertices[t1[1]], m1.vertices[t1[2]],
+                                                            m2.vertices[t2[0]], m2.vertices[t2[1]], m2.vertices[t2[2]],
+                                                            R, T))
+          pairs.emplace(int(i), j);
+      }
+    });
   }
   return pairs;
 }
