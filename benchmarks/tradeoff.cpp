@@ -53,7 +53,15 @@ constexpr std::size_t kWorldTreeBytes = std::size_t(256) << 20;  // world-frame 
 constexpr int kMinTightnessTriangles = 4;
 constexpr double kThinHull = 1e-6;
 
-const FrameFit kFrameFits[] = {FrameFit::kVertices, FrameFit::kTriangleArea, FrameFit::kConvexHull};
+/// The RS trees measured: FCL's mean split with each frame fit, and the vertex fit with surface-area splits.
+struct RSTree
+{
+  FrameFit fit;
+  bool surface_area_splits;
+  std::string name() const { return std::string(fcl_rs::frameFitName(fit)) + (surface_area_splits ? "+sah" : ""); }
+};
+const RSTree kRSTrees[] = {
+    {FrameFit::kVertices, false}, {FrameFit::kTriangleArea, false}, {FrameFit::kConvexHull, false}, {FrameFit::kVertices, true}};
 
 struct Options
 {
@@ -76,7 +84,8 @@ void printHelp()
       "\n"
       "Tightness against time for every bounding volume type: RS with each overlap test (two-sided,\n"
       "one-sided, boxed) and each frame fit (vertices = vertex PCA, area = area-weighted triangle PCA,\n"
-      "hull = PCA of the convex hull's surface), and FCL's OBB, RSS, OBBRSS, kIOS, AABB, KDOP16, KDOP18\n"
+      "hull = PCA of the convex hull's surface; vertices+sah = vertex PCA with surface-area splits,\n"
+      "fcl_rs::SurfaceAreaSplitter, instead of FCL's mean split), and FCL's OBB, RSS, OBBRSS, kIOS, AABB, KDOP16, KDOP18\n"
       "and KDOP24. Each mesh is collided with a copy of itself (double precision, same poses for every\n"
       "type).\n"
       "\n"
@@ -629,16 +638,22 @@ Row measureLocal(const Context& ctx, const std::string& name)
   return row;
 }
 
-/// RS with every frame fit and every overlap test: one tree per frame fit.
+/// RS with every tree of kRSTrees and every overlap test.
 std::vector<Row> measureRS(const Context& ctx)
 {
   std::vector<Row> rows;
-  for (FrameFit fit : kFrameFits)
+  for (const RSTree& tree : kRSTrees)
   {
-    const std::string fit_name = fcl_rs::frameFitName(fit);
+    const FrameFit fit = tree.fit;
+    const std::string fit_name = tree.name();
     ctx.progress.stage("RS " + fit_name + " build");
-    const auto build = [&] {
-      auto model = fcl_rs::buildModel<RSd>(ctx.input.mesh);
+    const auto build = [&] {  // what fcl_rs::buildModel does (validation included), with the tree's splitter
+      fcl_rs::validateMesh(ctx.input.mesh.vertices, ctx.input.mesh.triangles);
+      auto model = std::make_shared<fcl::BVHModel<RSd>>();
+      if (tree.surface_area_splits) fcl_rs::useSurfaceAreaSplits(*model);
+      if (model->beginModel() != fcl::BVH_OK || model->addSubModel(ctx.input.mesh.vertices, ctx.input.mesh.triangles) != fcl::BVH_OK ||
+          model->endModel() != fcl::BVH_OK)
+        throw std::runtime_error("FCL refused to build the RS tree of " + ctx.input.name);
       if (fit != FrameFit::kVertices) fcl_rs::refitFrames(*model, fit);
       return model;
     };
@@ -906,7 +921,8 @@ Style styleOf(const std::string& label)
   const auto it = fcl_styles.find(label);
   if (it != fcl_styles.end()) return it->second;
   // RS: colour by frame fit, point by overlap test.
-  const int color = label.find("vertices") != std::string::npos ? 0xd62728
+  const int color = label.find("+sah") != std::string::npos       ? 0x000000
+                    : label.find("vertices") != std::string::npos ? 0xd62728
                     : label.find("area") != std::string::npos   ? 0xff7f0e
                                                                 : 0x8b0000;
   const int point = label.find("one-sided") != std::string::npos ? 13 : label.find("boxed") != std::string::npos ? 3 : 7;

@@ -5,6 +5,7 @@
 #include "fcl_rs/directions.h"
 #include "fcl_rs/rs.h"
 #include "fcl_rs/rs_fit.h"
+#include "fcl_rs/rs_split.h"
 #include "fcl_rs/frame_fit.h"
 #include "fcl_rs/traversal.h"
 #include "fcl_rs/collide.h"
