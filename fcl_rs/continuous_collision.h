@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -34,34 +33,14 @@ S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::MotionBase<S
                     const fcl::CollisionGeometry<S>* o2, const fcl::MotionBase<S>* motion2,
                     const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result);
 
-namespace detail {
-
-/// fcl::getMotionBase's motion for type (null for an unknown type), made by std::make_shared: FCL's own
-/// version creates it with the global operator new and deletes it through Eigen's class operator delete
-/// (free), a mismatch AddressSanitizer reports.
-template <typename S>
-fcl::MotionBasePtr<S> makeMotion(const fcl::Transform3<S>& beg, const fcl::Transform3<S>& end, fcl::CCDMotionType type)
-{
-  switch (type)
-  {
-    case fcl::CCDM_TRANS: return std::make_shared<fcl::TranslationMotion<S>>(beg, end);
-    case fcl::CCDM_LINEAR: return std::make_shared<fcl::InterpMotion<S>>(beg, end);
-    case fcl::CCDM_SCREW: return std::make_shared<fcl::ScrewMotion<S>>(beg, end);
-    case fcl::CCDM_SPLINE: return std::make_shared<fcl::SplineMotion<S>>(beg, end);
-  }
-  return nullptr;
-}
-
-}  // namespace detail
-
 template <typename S>
 S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1_beg,
                     const fcl::Transform3<S>& tf1_end, const fcl::CollisionGeometry<S>* o2,
                     const fcl::Transform3<S>& tf2_beg, const fcl::Transform3<S>& tf2_end,
                     const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result)
 {
-  const fcl::MotionBasePtr<S> motion1 = detail::makeMotion(tf1_beg, tf1_end, request.ccd_motion_type);
-  const fcl::MotionBasePtr<S> motion2 = detail::makeMotion(tf2_beg, tf2_end, request.ccd_motion_type);
+  const fcl::MotionBasePtr<S> motion1 = fcl::getMotionBase(tf1_beg, tf1_end, request.ccd_motion_type);
+  const fcl::MotionBasePtr<S> motion2 = fcl::getMotionBase(tf2_beg, tf2_end, request.ccd_motion_type);
   return fcl_rs::continuousCollide(o1, motion1.get(), o2, motion2.get(), request, result);
 }
 
