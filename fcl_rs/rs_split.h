@@ -1,4 +1,4 @@
-// SurfaceAreaSplitter: an opt-in split rule for RS trees that costs some build time for fewer BV tests.
+// SurfaceAreaSplitter: an opt-in split rule for RS trees that costs a little build time for fewer BV tests.
 #ifndef FCL_RS_RS_SPLIT_H
 #define FCL_RS_RS_SPLIT_H
 
@@ -17,10 +17,10 @@ namespace fcl_rs {
 
 /// Splits each node where the surface area heuristic is smallest: along each of the node's principal
 /// axes u0, u1, u2, primitive centres are sorted into kBins equal bins, and of the kBins - 1 planes between
-/// bins the one minimising n_left * area(left box) + n_right * area(right box) is taken (boxes, in the node's
-/// frame, of balls about the children's primitives; area = the sum of a box's three face areas). FCL's
-/// default (SPLIT_METHOD_MEAN) always cuts u0 at the mean, which leaves children that overlap more and so
-/// cost more BV tests per query. Nodes whose centres coincide along every axis fall back to FCL's halving.
+/// bins the one minimising n_left * area(left box) + n_right * area(right box) is taken (boxes of the
+/// children's points in the node's frame; area = the sum of a box's three face areas). FCL's default
+/// (SPLIT_METHOD_MEAN) always cuts u0 at the mean, which leaves children that overlap more and so cost
+/// more BV tests per query. Nodes whose centres coincide along every axis fall back to FCL's halving.
 template <typename S>
 class SurfaceAreaSplitter : public fcl::detail::BVSplitterBase<RS<S>>
 {
@@ -32,12 +32,8 @@ public:
     vertices_ = vertices;
     triangles_ = triangles;
     type_ = type;
-    centre_.clear();
-    radius_.clear();
   }
 
-  /// The first call after set() is the root's, which lists every primitive: their centres and radii are
-  /// computed there, once per build.
   void computeRule(const RS<S>& bv, unsigned int* primitive_indices, int num_primitives) override;
 
   /// q is a primitive's centre (FCL's builder passes the triangle centroid or the point).
@@ -45,8 +41,8 @@ public:
 
   void clear() override
   {
-    centre_.clear();
-    radius_.clear();
+    vertices_ = nullptr;
+    triangles_ = nullptr;
   }
 
 private:
@@ -55,11 +51,10 @@ private:
     fcl::Vector3<S> lo = fcl::Vector3<S>::Constant(std::numeric_limits<S>::max());
     fcl::Vector3<S> hi = fcl::Vector3<S>::Constant(std::numeric_limits<S>::lowest());
     int count = 0;
-    void add(const Bin& other)
+    void add(const fcl::Vector3<S>& l, const fcl::Vector3<S>& h)
     {
-      lo = lo.cwiseMin(other.lo);
-      hi = hi.cwiseMax(other.hi);
-      count += other.count;
+      lo = lo.cwiseMin(l);
+      hi = hi.cwiseMax(h);
     }
     S area() const
     {
@@ -68,20 +63,13 @@ private:
     }
   };
 
-  void computeCentres(unsigned int* primitive_indices, int num_primitives);
-
   fcl::Vector3<S>* vertices_ = nullptr;
   fcl::Triangle* triangles_ = nullptr;
   fcl::BVHModelType type_ = fcl::BVH_MODEL_UNKNOWN;
   fcl::Vector3<S> normal_ = fcl::Vector3<S>::UnitX();
   S value_ = 0;
-  // Per primitive (by index): its centre (the triangle's centroid or the point) and the radius of a ball
-  // about it holding the primitive. A node bins the balls' boxes in its frame: one transform per primitive
-  // instead of one per vertex, for boxes a little larger than the triangles' own.
-  std::vector<fcl::Vector3<S>> centre_;
-  std::vector<S> radius_;
-  // Per primitive of the node being split: its centre in the node's frame (reused across nodes).
-  std::vector<fcl::Vector3<S>> local_;
+  // Per primitive, in the node's frame: its points' box and its centre (reused across nodes).
+  std::vector<fcl::Vector3<S>> lo_, hi_, centre_;
 };
 
 /// Makes model's next build use SurfaceAreaSplitter (call before beginModel).
@@ -92,73 +80,25 @@ void useSurfaceAreaSplits(fcl::BVHModel<RS<S>>& model)
 }
 
 template <typename S>
-void SurfaceAreaSplitter<S>::computeCentres(unsigned int* primitive_indices, int num_primitives)
-{
-  unsigned int count = 0;
-  for (int i = 0; i < num_primitives; ++i) count = std::max(count, primitive_indices[i] + 1);
-  centre_.assign(count, fcl::Vector3<S>::Zero());
-  radius_.assign(count, S(0));
-  const bool triangles = type_ == fcl::BVH_MODEL_TRIANGLES;
-  for (int i = 0; i < num_primitives; ++i)
-  {
-    const unsigned int p = primitive_indices[i];
-    if (!triangles)
-    {
-      centre_[p] = vertices_[p];
-      continue;
-    }
-    const fcl::Triangle& t = triangles_[p];
-    centre_[p] = (vertices_[t[0]] + vertices_[t[1]] + vertices_[t[2]]) / 3;
-    for (int k = 0; k < 3; ++k) radius_[p] = std::max(radius_[p], (vertices_[t[k]] - centre_[p]).norm());
-  }
-}
-
-template <typename S>
 void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitive_indices, int num_primitives)
 {
-  if (centre_.empty()) computeCentres(primitive_indices, num_primitives);
   const int n = num_primitives;
-  local_.resize(std::size_t(n));
-  const fcl::Matrix3<S> to_frame = bv.axis.transpose();
-  fcl::Vector3<S> first = fcl::Vector3<S>::Constant(std::numeric_limits<S>::max());
-  fcl::Vector3<S> last = fcl::Vector3<S>::Constant(std::numeric_limits<S>::lowest());
+  lo_.resize(std::size_t(n));
+  hi_.resize(std::size_t(n));
+  centre_.resize(std::size_t(n));
+  const int points = type_ == fcl::BVH_MODEL_TRIANGLES ? 3 : 1;
   for (int i = 0; i < n; ++i)
   {
-    local_[std::size_t(i)].noalias() = to_frame.lazyProduct(centre_[primitive_indices[i]] - bv.origin);
-    first = first.cwiseMin(local_[std::size_t(i)]);
-    last = last.cwiseMax(local_[std::size_t(i)]);
-  }
-  const fcl::Vector3<S> width = last - first;
-  // Bins per unit length along each axis; an axis whose centres coincide (or whose width is so small that
-  // this overflows) is not binned.
-  std::array<bool, 3> binned;
-  fcl::Vector3<S> scale;
-  for (int axis = 0; axis < 3; ++axis)
-  {
-    scale[axis] = kBins / width[axis];
-    binned[std::size_t(axis)] = width[axis] > 0 && scale[axis] <= std::numeric_limits<S>::max();
-  }
-
-  // bins[axis][b]: the primitives whose centre falls in bin b along that axis.
-  std::array<std::array<Bin, kBins>, 3> bins;
-  for (int axis = 0; axis < 3; ++axis)
-  {
-    if (!binned[std::size_t(axis)]) continue;
-    std::array<Bin, kBins>& row = bins[std::size_t(axis)];
-    for (int i = 0; i < n; ++i)
+    const unsigned int p = primitive_indices[i];
+    fcl::Vector3<S> sum = fcl::Vector3<S>::Zero();
+    for (int k = 0; k < points; ++k)
     {
-      const fcl::Vector3<S>& c = local_[std::size_t(i)];
-      const S r = radius_[primitive_indices[i]];
-      // t is in [0, kBins] up to rounding (c - first <= width); the clamp keeps the last centre in the last bin.
-      const S t = (c[axis] - first[axis]) * scale[axis];
-      Bin& bin = row[std::size_t(std::min(kBins - 1, int(t)))];
-      for (int k = 0; k < 3; ++k)
-      {
-        bin.lo[k] = std::min(bin.lo[k], c[k] - r);
-        bin.hi[k] = std::max(bin.hi[k], c[k] + r);
-      }
-      ++bin.count;
+      const fcl::Vector3<S> y = bv.toFrame(vertices_[points == 3 ? triangles_[p][k] : p]);
+      lo_[std::size_t(i)] = k == 0 ? y : lo_[std::size_t(i)].cwiseMin(y);
+      hi_[std::size_t(i)] = k == 0 ? y : hi_[std::size_t(i)].cwiseMax(y);
+      sum += y;
     }
+    centre_[std::size_t(i)] = sum / S(points);
   }
 
   S best = std::numeric_limits<S>::max();
@@ -166,19 +106,38 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
   S best_threshold = 0;
   for (int axis = 0; axis < 3; ++axis)
   {
-    if (!binned[std::size_t(axis)]) continue;
-    const std::array<Bin, kBins>& row = bins[std::size_t(axis)];
-    std::array<Bin, kBins> right;  // right[b]: bins b..kBins-1 merged
-    right[kBins - 1] = row[kBins - 1];
+    S first = std::numeric_limits<S>::max(), last = std::numeric_limits<S>::lowest();
+    for (int i = 0; i < n; ++i)
+    {
+      first = std::min(first, centre_[std::size_t(i)][axis]);
+      last = std::max(last, centre_[std::size_t(i)][axis]);
+    }
+    if (!(last > first)) continue;  // every centre in one plane across this axis (or NaN input)
+    const S width = last - first;
+    std::array<Bin, kBins> bins;
+    for (int i = 0; i < n; ++i)
+    {
+      // The ratio is in [0, 1] (subtraction is monotone), so t is in [0, kBins] even for a denormal width;
+      // the clamp keeps the last centre in the last bin.
+      const S t = (centre_[std::size_t(i)][axis] - first) / width * kBins;
+      const int b = t >= 0 ? std::min(kBins - 1, int(t)) : 0;
+      bins[std::size_t(b)].add(lo_[std::size_t(i)], hi_[std::size_t(i)]);
+      ++bins[std::size_t(b)].count;
+    }
+    // right[b]: bins b..kBins-1 merged.
+    std::array<Bin, kBins> right;
+    right[kBins - 1] = bins[kBins - 1];
     for (int b = kBins - 2; b > 0; --b)
     {
       right[std::size_t(b)] = right[std::size_t(b) + 1];
-      right[std::size_t(b)].add(row[std::size_t(b)]);
+      right[std::size_t(b)].add(bins[std::size_t(b)].lo, bins[std::size_t(b)].hi);
+      right[std::size_t(b)].count += bins[std::size_t(b)].count;
     }
     Bin left;
     for (int b = 0; b + 1 < kBins; ++b)
     {
-      left.add(row[std::size_t(b)]);
+      left.add(bins[std::size_t(b)].lo, bins[std::size_t(b)].hi);
+      left.count += bins[std::size_t(b)].count;
       const Bin& rest = right[std::size_t(b) + 1];
       if (left.count == 0 || rest.count == 0) continue;
       const S cost = left.count * left.area() + rest.count * rest.area();
@@ -186,7 +145,7 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
       {
         best = cost;
         best_axis = axis;
-        best_threshold = first[axis] + width[axis] * S(b + 1) / kBins;
+        best_threshold = first + width * S(b + 1) / kBins;
       }
     }
   }
