@@ -647,13 +647,10 @@ std::vector<Row> measureRS(const Context& ctx)
     const FrameFit fit = tree.fit;
     const std::string fit_name = tree.name();
     ctx.progress.stage("RS " + fit_name + " build");
-    const auto build = [&] {  // what fcl_rs::buildModel does (validation included), with the tree's splitter
-      fcl_rs::validateMesh(ctx.input.mesh.vertices, ctx.input.mesh.triangles);
-      auto model = std::make_shared<fcl::BVHModel<RSd>>();
-      if (tree.surface_area_splits) fcl_rs::useSurfaceAreaSplits(*model);
-      if (model->beginModel() != fcl::BVH_OK || model->addSubModel(ctx.input.mesh.vertices, ctx.input.mesh.triangles) != fcl::BVH_OK ||
-          model->endModel() != fcl::BVH_OK)
-        throw std::runtime_error("FCL refused to build the RS tree of " + ctx.input.name);
+    const auto build = [&] {
+      auto model = tree.surface_area_splits
+                       ? fcl_rs::buildModel<RSd>(ctx.input.mesh, std::make_shared<fcl_rs::SurfaceAreaSplitter<double>>())
+                       : fcl_rs::buildModel<RSd>(ctx.input.mesh);
       if (fit != FrameFit::kVertices) fcl_rs::refitFrames(*model, fit);
       return model;
     };

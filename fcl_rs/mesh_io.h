@@ -69,19 +69,28 @@ void validateMesh(const std::vector<fcl::Vector3<S>>& vertices, const std::vecto
                                     std::to_string(vertices.size()) + " vertices");
 }
 
-/// A built BVHModel<BV> of the mesh (any BV type: RS or FCL's). Validates the input first.
+/// A built BVHModel<BV> of the mesh (any BV type: RS or FCL's), split by splitter. Validates the input first.
+template <typename BV>
+std::shared_ptr<fcl::BVHModel<BV>> buildModel(const std::vector<fcl::Vector3<typename BV::S>>& vertices,
+                                              const std::vector<fcl::Triangle>& triangles,
+                                              std::shared_ptr<fcl::detail::BVSplitterBase<BV>> splitter)
+{
+  validateMesh(vertices, triangles);
+  auto model = std::make_shared<fcl::BVHModel<BV>>();
+  model->bv_splitter = std::move(splitter);
+  if (model->beginModel(int(triangles.size()), int(vertices.size())) != fcl::BVH_OK ||
+      model->addSubModel(vertices, triangles) != fcl::BVH_OK || model->endModel() != fcl::BVH_OK)
+    throw std::runtime_error("fcl_rs: FCL refused to build the BVH model");
+  return model;
+}
+
+/// The same with FCL's splitter and split rule (the mean along the node's first axis by default).
 template <typename BV>
 std::shared_ptr<fcl::BVHModel<BV>> buildModel(const std::vector<fcl::Vector3<typename BV::S>>& vertices,
                                               const std::vector<fcl::Triangle>& triangles,
                                               fcl::detail::SplitMethodType split = fcl::detail::SPLIT_METHOD_MEAN)
 {
-  validateMesh(vertices, triangles);
-  auto model = std::make_shared<fcl::BVHModel<BV>>();
-  model->bv_splitter.reset(new fcl::detail::BVSplitter<BV>(split));
-  if (model->beginModel(int(triangles.size()), int(vertices.size())) != fcl::BVH_OK ||
-      model->addSubModel(vertices, triangles) != fcl::BVH_OK || model->endModel() != fcl::BVH_OK)
-    throw std::runtime_error("fcl_rs: FCL refused to build the BVH model");
-  return model;
+  return buildModel<BV>(vertices, triangles, std::make_shared<fcl::detail::BVSplitter<BV>>(split));
 }
 
 template <typename BV>
@@ -89,6 +98,13 @@ std::shared_ptr<fcl::BVHModel<BV>> buildModel(const TriangleMesh<typename BV::S>
                                               fcl::detail::SplitMethodType split = fcl::detail::SPLIT_METHOD_MEAN)
 {
   return buildModel<BV>(mesh.vertices, mesh.triangles, split);
+}
+
+template <typename BV>
+std::shared_ptr<fcl::BVHModel<BV>> buildModel(const TriangleMesh<typename BV::S>& mesh,
+                                              std::shared_ptr<fcl::detail::BVSplitterBase<BV>> splitter)
+{
+  return buildModel<BV>(mesh.vertices, mesh.triangles, std::move(splitter));
 }
 
 /// Moves the vertices of a built model (same triangles, same tree structure) and refits its volumes,

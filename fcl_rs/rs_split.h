@@ -51,11 +51,13 @@ private:
     fcl::Vector3<S> lo = fcl::Vector3<S>::Constant(std::numeric_limits<S>::max());
     fcl::Vector3<S> hi = fcl::Vector3<S>::Constant(std::numeric_limits<S>::lowest());
     int count = 0;
-    void add(const fcl::Vector3<S>& l, const fcl::Vector3<S>& h)
+    void add(const fcl::Vector3<S>& l, const fcl::Vector3<S>& h, int n)
     {
       lo = lo.cwiseMin(l);
       hi = hi.cwiseMax(h);
+      count += n;
     }
+    void add(const Bin& other) { add(other.lo, other.hi, other.count); }
     S area() const
     {
       const fcl::Vector3<S> e = hi - lo;
@@ -72,7 +74,8 @@ private:
   std::vector<fcl::Vector3<S>> lo_, hi_, centre_;
 };
 
-/// Makes model's next build use SurfaceAreaSplitter (call before beginModel).
+/// Makes model's next build use SurfaceAreaSplitter (call before beginModel); or pass
+/// std::make_shared<SurfaceAreaSplitter<S>>() to buildModel.
 template <typename S>
 void useSurfaceAreaSplits(fcl::BVHModel<RS<S>>& model)
 {
@@ -87,6 +90,9 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
   hi_.resize(std::size_t(n));
   centre_.resize(std::size_t(n));
   const int points = type_ == fcl::BVH_MODEL_TRIANGLES ? 3 : 1;
+  // Range of the centres along each axis.
+  fcl::Vector3<S> first = fcl::Vector3<S>::Constant(std::numeric_limits<S>::max());
+  fcl::Vector3<S> last = fcl::Vector3<S>::Constant(std::numeric_limits<S>::lowest());
   for (int i = 0; i < n; ++i)
   {
     const unsigned int p = primitive_indices[i];
@@ -99,6 +105,8 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
       sum += y;
     }
     centre_[std::size_t(i)] = sum / S(points);
+    first = first.cwiseMin(centre_[std::size_t(i)]);
+    last = last.cwiseMax(centre_[std::size_t(i)]);
   }
 
   S best = std::numeric_limits<S>::max();
@@ -106,23 +114,16 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
   S best_threshold = 0;
   for (int axis = 0; axis < 3; ++axis)
   {
-    S first = std::numeric_limits<S>::max(), last = std::numeric_limits<S>::lowest();
-    for (int i = 0; i < n; ++i)
-    {
-      first = std::min(first, centre_[std::size_t(i)][axis]);
-      last = std::max(last, centre_[std::size_t(i)][axis]);
-    }
-    if (!(last > first)) continue;  // every centre in one plane across this axis (or NaN input)
-    const S width = last - first;
+    if (!(last[axis] > first[axis])) continue;  // every centre in one plane across this axis (or NaN input)
+    const S width = last[axis] - first[axis];
     std::array<Bin, kBins> bins;
     for (int i = 0; i < n; ++i)
     {
       // The ratio is in [0, 1] (subtraction is monotone), so t is in [0, kBins] even for a denormal width;
       // the clamp keeps the last centre in the last bin.
-      const S t = (centre_[std::size_t(i)][axis] - first) / width * kBins;
+      const S t = (centre_[std::size_t(i)][axis] - first[axis]) / width * kBins;
       const int b = t >= 0 ? std::min(kBins - 1, int(t)) : 0;
-      bins[std::size_t(b)].add(lo_[std::size_t(i)], hi_[std::size_t(i)]);
-      ++bins[std::size_t(b)].count;
+      bins[std::size_t(b)].add(lo_[std::size_t(i)], hi_[std::size_t(i)], 1);
     }
     // right[b]: bins b..kBins-1 merged.
     std::array<Bin, kBins> right;
@@ -130,14 +131,12 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
     for (int b = kBins - 2; b > 0; --b)
     {
       right[std::size_t(b)] = right[std::size_t(b) + 1];
-      right[std::size_t(b)].add(bins[std::size_t(b)].lo, bins[std::size_t(b)].hi);
-      right[std::size_t(b)].count += bins[std::size_t(b)].count;
+      right[std::size_t(b)].add(bins[std::size_t(b)]);
     }
     Bin left;
     for (int b = 0; b + 1 < kBins; ++b)
     {
-      left.add(bins[std::size_t(b)].lo, bins[std::size_t(b)].hi);
-      left.count += bins[std::size_t(b)].count;
+      left.add(bins[std::size_t(b)]);
       const Bin& rest = right[std::size_t(b) + 1];
       if (left.count == 0 || rest.count == 0) continue;
       const S cost = left.count * left.area() + rest.count * rest.area();
@@ -145,7 +144,7 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
       {
         best = cost;
         best_axis = axis;
-        best_threshold = first + width * S(b + 1) / kBins;
+        best_threshold = first[axis] + width * S(b + 1) / kBins;
       }
     }
   }

@@ -18,13 +18,7 @@ using fcl_rs::TriangleMesh;
 template <typename S>
 std::shared_ptr<fcl::BVHModel<RS<S>>> buildSurfaceArea(const TriangleMesh<S>& mesh)
 {
-  fcl_rs::validateMesh(mesh.vertices, mesh.triangles);
-  auto model = std::make_shared<fcl::BVHModel<RS<S>>>();
-  fcl_rs::useSurfaceAreaSplits(*model);
-  EXPECT_EQ(model->beginModel(), fcl::BVH_OK);
-  EXPECT_EQ(model->addSubModel(mesh.vertices, mesh.triangles), fcl::BVH_OK);
-  EXPECT_EQ(model->endModel(), fcl::BVH_OK);
-  return model;
+  return fcl_rs::buildModel<RS<S>>(mesh, std::make_shared<fcl_rs::SurfaceAreaSplitter<S>>());
 }
 
 /// Every node contains every vertex of its triangles; leaves hold one triangle each.
