@@ -197,11 +197,8 @@ RS<S> fitTriangles(int n, CornerAt corner_at, FrameFit fit, const ConvexHull* hu
 {
   if (fit == FrameFit::kVertices) return fitPoints<S>(3 * n, [&](int k) { return corner_at(k / 3, k % 3); });
   const PrincipalFrame<S> frame = triangleFrame<S>(n, corner_at, fit, hull);
-  // Every corner but the last grows the slabs alone (expandFrame); the last goes through operator+=,
-  // which also brings up to date what RS derives from its slabs, once instead of once per corner.
   RS<S> bv(frame.axis, frame.mean);
-  for (int k = 0; k + 1 < 3 * n; ++k) bv.expandFrame(bv.toFrame(corner_at(k / 3, k % 3)), 0);
-  bv += corner_at(n - 1, 2);
+  bv.expandPoints(3 * n, [&](int k) { return corner_at(k / 3, k % 3); });
   return bv;
 }
 

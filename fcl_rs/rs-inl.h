@@ -88,6 +88,42 @@ void RS<S>::expandFrame(const fcl::Vector3<S>& y, S abs_err)
 }
 
 template <typename S>
+template <typename PointAt>
+void RS<S>::expandPoints(int n, PointAt point_at)
+{
+  // Extremes of the unscaled projections y_i + sign * y_j, scaled by sqrt(1/2) at the end: scaling by a
+  // positive constant is monotone in floating point, so the extremes are those of projectOnSlab's values.
+  using Array = Eigen::Array<S, kNumSlabs, 1>;
+  Array low = Array::Constant(std::numeric_limits<S>::max());
+  Array high = Array::Constant(std::numeric_limits<S>::lowest());
+  S largest_norm1 = 0;
+  for (int i = 0; i < n; ++i)
+  {
+    const fcl::Vector3<S> y = toFrame(point_at(i));
+    Array v;
+    for (int k = 0; k < kNumSlabs; ++k)
+    {
+      const SlabDirection& d = kSlabDirections[k];
+      v[k] = d.sign == 0 ? y[d.i] : y[d.i] + S(d.sign) * y[d.j];
+    }
+    low = low.min(v);
+    high = high.max(v);
+    largest_norm1 = std::max(largest_norm1, y.template lpNorm<1>());
+  }
+  if (n > 0)
+  {
+    const S err = 4 * detail::eps<S>() * largest_norm1;  // as expandFrame's, for the largest point
+    for (int k = 0; k < kNumSlabs; ++k)
+    {
+      const S scale = kSlabDirections[k].sign == 0 ? S(1) : S(M_SQRT1_2);
+      lo[k] = std::min(lo[k], low[k] * scale - err);
+      hi[k] = std::max(hi[k], high[k] * scale + err);
+    }
+  }
+  updateBoxExcess();
+}
+
+template <typename S>
 RS<S>& RS<S>::operator+=(const fcl::Vector3<S>& p)
 {
   if (empty()) origin = p;
@@ -568,8 +604,7 @@ RS<S> fitPoints(int n, PointAt point_at)
 {
   const PrincipalFrame<S> frame = principalFrame<S>(n, point_at);
   RS<S> bv(frame.axis, frame.mean);
-  for (int i = 0; i < n; ++i) bv.expandFrame(bv.toFrame(point_at(i)), 0);
-  bv.updateBoxExcess();
+  bv.expandPoints(n, point_at);
   return bv;
 }
 

@@ -88,6 +88,10 @@ public:
   /// Grows the intervals to contain the frame point y, widened by abs_err (its known rounding error).
   /// Leaves box_excess stale: call updateBoxExcess() when done growing.
   void expandFrame(const fcl::Vector3<S>& y, S abs_err);
+  /// Grows the intervals to contain the n model points point_at(i) and brings box_excess up to date.
+  /// Equivalent to toFrame + expandFrame per point, but pads once, by the largest point's rounding.
+  template <typename PointAt>
+  void expandPoints(int n, PointAt point_at);
   /// Recomputes box_excess from the slabs: per corner, the distance from the box corner to the
   /// nearest of the corner's 4 vertices, maximised over the 8 corners.
   void updateBoxExcess();

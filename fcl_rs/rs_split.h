@@ -86,6 +86,9 @@ template <typename S>
 void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitive_indices, int num_primitives)
 {
   const int n = num_primitives;
+  normal_ = bv.axis.col(0);
+  value_ = normal_.dot(bv.center());
+  if (n < 2) return;  // a leaf: FCL's builder does not split it
   lo_.resize(std::size_t(n));
   hi_.resize(std::size_t(n));
   centre_.resize(std::size_t(n));
@@ -148,13 +151,9 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
       }
     }
   }
-  if (best_axis < 0)
-  {
-    // No axis separates the centres: any plane leaves one side empty, which FCL's builder halves.
-    normal_ = bv.axis.col(0);
-    value_ = normal_.dot(bv.center());
-    return;
-  }
+  // No axis separates the centres (best_axis < 0): any plane leaves one side empty, which FCL's builder
+  // halves; the plane through the centre set above will do.
+  if (best_axis < 0) return;
   // Frame coordinate y_axis > threshold  <=>  u_axis . q > u_axis . origin + threshold.
   normal_ = bv.axis.col(best_axis);
   value_ = normal_.dot(bv.origin) + best_threshold;

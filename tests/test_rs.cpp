@@ -136,6 +136,37 @@ TYPED_TEST(RSTest, FitContainsEveryPointAndCornersBoundThePolytope)
   }
 }
 
+TYPED_TEST(RSTest, BatchedGrowthIsPerPointGrowthPaddedOnce)
+{
+  // expandPoints (what fits use) pads by the largest point's rounding once; expandFrame pads per point.
+  using S = TypeParam;
+  auto rng = seededRng("BatchedGrowth");
+  for (int trial = 0; trial < 100; ++trial)
+  {
+    const auto pts = randomCloud<S>(rng, trial, 1 + trial % 40);
+    RS<S> batched(randomRotation<S>(rng), pts.front());
+    RS<S> per_point = batched;
+    batched.expandPoints(int(pts.size()), [&](int i) { return pts[std::size_t(i)]; });
+    S largest = 0;
+    for (const auto& p : pts)
+    {
+      per_point.expandFrame(per_point.toFrame(p), 0);
+      largest = std::max(largest, per_point.toFrame(p).template lpNorm<1>());
+    }
+    per_point.updateBoxExcess();
+    const S pad = 8 * std::numeric_limits<S>::epsilon() * largest;
+    for (int k = 0; k < kNumSlabs; ++k)
+    {
+      EXPECT_LE(batched.lo[k], per_point.lo[k]) << "trial " << trial << " slab " << k;
+      EXPECT_GE(batched.hi[k], per_point.hi[k]) << "trial " << trial << " slab " << k;
+      EXPECT_LE(per_point.lo[k] - batched.lo[k], pad) << "trial " << trial << " slab " << k;
+      EXPECT_LE(batched.hi[k] - per_point.hi[k], pad) << "trial " << trial << " slab " << k;
+    }
+    EXPECT_NEAR(batched.box_excess, per_point.box_excess, 4 * pad + tolerance(per_point.magnitude()));
+    for (const auto& p : pts) ASSERT_TRUE(batched.contain(p)) << "trial " << trial;
+  }
+}
+
 TYPED_TEST(RSTest, MergeContainsBothInputs)
 {
   using S = TypeParam;
