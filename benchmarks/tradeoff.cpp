@@ -53,12 +53,13 @@ constexpr std::size_t kWorldTreeBytes = std::size_t(256) << 20;  // world-frame 
 constexpr int kMinTightnessTriangles = 4;
 constexpr double kThinHull = 1e-6;
 
-/// The RS trees measured: FCL's mean split with each frame fit, and the vertex fit with surface-area splits.
+/// The RS trees measured: buildModel's (surface-area splits) with each frame fit, and the vertex fit with FCL's
+/// mean split.
 struct RSTree
 {
   FrameFit fit;
-  bool surface_area_splits;
-  std::string name() const { return std::string(fcl_rs::frameFitName(fit)) + (surface_area_splits ? "+sah" : ""); }
+  bool mean_split;
+  std::string name() const { return std::string(fcl_rs::frameFitName(fit)) + (mean_split ? "+mean" : ""); }
 };
 const RSTree kRSTrees[] = {
     {FrameFit::kVertices, false}, {FrameFit::kTriangleArea, false}, {FrameFit::kConvexHull, false}, {FrameFit::kVertices, true}};
@@ -84,8 +85,9 @@ void printHelp()
       "\n"
       "Tightness against time for every bounding volume type: RS with each overlap test (two-sided,\n"
       "one-sided, boxed) and each frame fit (vertices = vertex PCA, area = area-weighted triangle PCA,\n"
-      "hull = PCA of the convex hull's surface; vertices+sah = vertex PCA with surface-area splits,\n"
-      "fcl_rs::SurfaceAreaSplitter, instead of FCL's mean split), and FCL's OBB, RSS, OBBRSS, kIOS, AABB, KDOP16, KDOP18\n"
+      "hull = PCA of the convex hull's surface; all in trees split by surface area as fcl_rs::buildModel\n"
+      "builds them; vertices+mean = vertex PCA in a tree split by FCL's mean split), and FCL's OBB, RSS,\n"
+      "OBBRSS, kIOS, AABB, KDOP16, KDOP18\n"
       "and KDOP24. Each mesh is collided with a copy of itself (double precision, same poses for every\n"
       "type).\n"
       "\n"
@@ -648,9 +650,8 @@ std::vector<Row> measureRS(const Context& ctx)
     const std::string fit_name = tree.name();
     ctx.progress.stage("RS " + fit_name + " build");
     const auto build = [&] {
-      auto model = tree.surface_area_splits
-                       ? fcl_rs::buildModel<RSd>(ctx.input.mesh, std::make_shared<fcl_rs::SurfaceAreaSplitter<double>>())
-                       : fcl_rs::buildModel<RSd>(ctx.input.mesh);
+      auto model = tree.mean_split ? fcl_rs::buildModel<RSd>(ctx.input.mesh, fcl::detail::SPLIT_METHOD_MEAN)
+                                   : fcl_rs::buildModel<RSd>(ctx.input.mesh);
       if (fit != FrameFit::kVertices) fcl_rs::refitFrames(*model, fit);
       return model;
     };
@@ -918,7 +919,7 @@ Style styleOf(const std::string& label)
   const auto it = fcl_styles.find(label);
   if (it != fcl_styles.end()) return it->second;
   // RS: colour by frame fit, point by overlap test.
-  const int color = label.find("+sah") != std::string::npos       ? 0x000000
+  const int color = label.find("+mean") != std::string::npos      ? 0x000000
                     : label.find("vertices") != std::string::npos ? 0xd62728
                     : label.find("area") != std::string::npos   ? 0xff7f0e
                                                                 : 0x8b0000;

@@ -1,4 +1,4 @@
-// SurfaceAreaSplitter: an opt-in split rule for RS trees that costs a little build time for fewer BV tests.
+// SurfaceAreaSplitter: the split rule of fcl_rs::buildModel's RS trees; a little build time for fewer BV tests.
 #ifndef FCL_RS_RS_SPLIT_H
 #define FCL_RS_RS_SPLIT_H
 
@@ -21,11 +21,12 @@ namespace fcl_rs {
 /// children's points in the node's frame; area = the sum of a box's three face areas). FCL's default
 /// (SPLIT_METHOD_MEAN) always cuts u0 at the mean, which leaves children that overlap more and so cost
 /// more BV tests per query. Nodes whose centres coincide along every axis fall back to FCL's halving.
+/// fcl_rs::buildModel<RS<S>> uses it; a BVHModel<RS<S>> built by hand gets it from useSurfaceAreaSplits.
 template <typename S>
 class SurfaceAreaSplitter : public fcl::detail::BVSplitterBase<RS<S>>
 {
 public:
-  static constexpr int kBins = 8;
+  static constexpr int kBins = 16;
 
   void set(fcl::Vector3<S>* vertices, fcl::Triangle* triangles, fcl::BVHModelType type) override
   {
@@ -39,10 +40,15 @@ public:
   /// q is a primitive's centre (FCL's builder passes the triangle centroid or the point).
   bool apply(const fcl::Vector3<S>& q) const override { return normal_.dot(q) > value_; }
 
+  /// FCL calls this when a build ends: the scratch arrays (72 bytes per triangle in double) are released, not
+  /// kept for the model's lifetime.
   void clear() override
   {
     vertices_ = nullptr;
     triangles_ = nullptr;
+    std::vector<fcl::Vector3<S>>().swap(lo_);
+    std::vector<fcl::Vector3<S>>().swap(hi_);
+    std::vector<fcl::Vector3<S>>().swap(centre_);
   }
 
 private:
@@ -74,8 +80,7 @@ private:
   std::vector<fcl::Vector3<S>> lo_, hi_, centre_;
 };
 
-/// Makes model's next build use SurfaceAreaSplitter (call before beginModel); or pass
-/// std::make_shared<SurfaceAreaSplitter<S>>() to buildModel.
+/// Makes model's next build use SurfaceAreaSplitter (call before beginModel), as fcl_rs::buildModel does.
 template <typename S>
 void useSurfaceAreaSplits(fcl::BVHModel<RS<S>>& model)
 {

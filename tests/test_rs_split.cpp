@@ -15,10 +15,14 @@ namespace {
 using fcl_rs::RS;
 using fcl_rs::TriangleMesh;
 
+/// buildModel's RS tree, which must be split by surface area.
 template <typename S>
 std::shared_ptr<fcl::BVHModel<RS<S>>> buildSurfaceArea(const TriangleMesh<S>& mesh)
 {
-  return fcl_rs::buildModel<RS<S>>(mesh, std::make_shared<fcl_rs::SurfaceAreaSplitter<S>>());
+  auto model = fcl_rs::buildModel<RS<S>>(mesh);
+  EXPECT_NE(dynamic_cast<const fcl_rs::SurfaceAreaSplitter<S>*>(model->bv_splitter.get()), nullptr)
+      << "buildModel's RS trees are split by surface area";
+  return model;
 }
 
 /// Every node contains every vertex of its triangles; leaves hold one triangle each.
@@ -50,7 +54,8 @@ TYPED_TEST(SurfaceAreaSplits, QueriesMatchBruteForceWithFewerBVTests)
   const auto sphere = fcl_rs::makeSphere<S>(1, 16, 32);
   const auto torus = fcl_rs::makeTorus<S>(1, S(0.3), 32, 16);
   const auto sphere_sah = buildSurfaceArea(sphere), torus_sah = buildSurfaceArea(torus);
-  const auto sphere_mean = fcl_rs::buildModel<RS<S>>(sphere), torus_mean = fcl_rs::buildModel<RS<S>>(torus);
+  const auto sphere_mean = fcl_rs::buildModel<RS<S>>(sphere, fcl::detail::SPLIT_METHOD_MEAN),
+             torus_mean = fcl_rs::buildModel<RS<S>>(torus, fcl::detail::SPLIT_METHOD_MEAN);
   expectNodesContainTheirTriangles(*sphere_sah, "sphere");
   expectNodesContainTheirTriangles(*torus_sah, "torus");
 
