@@ -11,8 +11,10 @@ int main(int argc, char** argv)
   const fcl_rs::TriangleMesh<double> mesh =
       argc > 1 ? fcl_rs::loadMesh<double>(argv[1]) : fcl_rs::makeTorus<double>(1.0, 0.25);
 
-  // Build RS trees exactly as FCL trees are built (beginModel / addSubModel / endModel).
+  // Build RS trees exactly as FCL trees are built (beginModel / addSubModel / endModel), split by surface
+  // area (fcl_rs::buildModel<fcl_rs::RSd>(mesh) does the same in one call and validates the mesh first).
   auto model = std::make_shared<fcl::BVHModel<fcl_rs::RSd>>();
+  fcl_rs::useSurfaceAreaSplits(*model);
   model->beginModel();
   model->addSubModel(mesh.vertices, mesh.triangles);
   model->endModel();

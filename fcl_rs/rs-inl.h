@@ -137,15 +137,29 @@ void RS<S>::updateBoxExcess()
 {
   box_excess = 0;
   if (empty()) return;
-  fcl::Vector3<S> v[4];
+  // cornerVertices' four cases in closed form: with a, b, c the depths of the chamfers xy, xz, yz below the
+  // box corner, its vertices on the principal planes are at squared distances a²+b², a²+c², b²+c², the
+  // chamfers' triple point at ex²+ey²+ez²; where the triple point passes a principal plane (e > 0), two
+  // vertices on that plane replace it. Rounding only moves the bound by ulps, which costs pruning at most.
+  S nearest_squared = 0;
   for (int octant = 0; octant < 8; ++octant)
   {
-    cornerVertices(octant, v);
-    const fcl::Vector3<S> box_corner(octant & 1 ? lo[0] : hi[0], octant & 2 ? lo[1] : hi[1], octant & 4 ? lo[2] : hi[2]);
-    S nearest = (box_corner - v[0]).norm();
-    for (int i = 1; i < 4; ++i) nearest = std::min(nearest, (box_corner - v[i]).norm());
-    box_excess = std::max(box_excess, nearest);
+    const CornerPlanes p = cornerPlanes(octant);
+    const S a = p.X + p.Y - p.Cxy, b = p.X + p.Z - p.Cxz, c = p.Y + p.Z - p.Cyz;
+    const S ex = (c - a - b) / 2, ey = (b - a - c) / 2, ez = (a - b - c) / 2;
+    const S ab = a * a + b * b, ac = a * a + c * c, bc = b * b + c * c;
+    S nearest;
+    if (ex <= 0 && ey <= 0 && ez <= 0)
+      nearest = std::min({ex * ex + ey * ey + ez * ez, ab, ac, bc});
+    else if (ex >= ey && ex >= ez)
+      nearest = std::min({a * a + (c - a) * (c - a), b * b + (c - b) * (c - b), ac, bc});
+    else if (ey >= ez)
+      nearest = std::min({a * a + (b - a) * (b - a), c * c + (b - c) * (b - c), ab, bc});
+    else
+      nearest = std::min({b * b + (a - b) * (a - b), c * c + (a - c) * (a - c), ab, ac});
+    nearest_squared = std::max(nearest_squared, nearest);
   }
+  box_excess = std::sqrt(nearest_squared);
 }
 
 template <typename S>
@@ -184,19 +198,27 @@ S RS<S>::magnitude() const
 }
 
 template <typename S>
-void RS<S>::cornerVertices(int octant, fcl::Vector3<S>* v) const
+typename RS<S>::CornerPlanes RS<S>::cornerPlanes(int octant) const
 {
-  // Tribox: work in the frame reflected so that this corner is (+,+,+); X, Y, Z are the principal
-  // planes and Cxy, Cxz, Cyz the unnormalised chamfer planes (x+y <= Cxy, ...).
   const bool nx = octant & 1, ny = octant & 2, nz = octant & 4;
-  const S X = nx ? -lo[0] : hi[0], Y = ny ? -lo[1] : hi[1], Z = nz ? -lo[2] : hi[2];
   auto chamfer = [this](bool ni, bool nj, int plus, int minus) {
     const int k = ni == nj ? plus : minus;
     return S(M_SQRT2) * (ni ? -lo[k] : hi[k]);
   };
-  const S Cxy = chamfer(nx, ny, diagonalIndex(0, 1, +1), diagonalIndex(0, 1, -1));
-  const S Cxz = chamfer(nx, nz, diagonalIndex(0, 2, +1), diagonalIndex(0, 2, -1));
-  const S Cyz = chamfer(ny, nz, diagonalIndex(1, 2, +1), diagonalIndex(1, 2, -1));
+  return {nx ? -lo[0] : hi[0],
+          ny ? -lo[1] : hi[1],
+          nz ? -lo[2] : hi[2],
+          chamfer(nx, ny, diagonalIndex(0, 1, +1), diagonalIndex(0, 1, -1)),
+          chamfer(nx, nz, diagonalIndex(0, 2, +1), diagonalIndex(0, 2, -1)),
+          chamfer(ny, nz, diagonalIndex(1, 2, +1), diagonalIndex(1, 2, -1))};
+}
+
+template <typename S>
+void RS<S>::cornerVertices(int octant, fcl::Vector3<S>* v) const
+{
+  // Tribox, in the frame reflected so that this corner is (+,+,+) (cornerPlanes).
+  const bool nx = octant & 1, ny = octant & 2, nz = octant & 4;
+  const auto [X, Y, Z, Cxy, Cxz, Cyz] = cornerPlanes(octant);
 
   // The chamfer triple point can pass at most one principal plane (the slab values are a support
   // function), which leaves four configurations of four vertices each.

@@ -95,6 +95,15 @@ public:
   /// Recomputes box_excess from the slabs: per corner, the distance from the box corner to the
   /// nearest of the corner's 4 vertices, maximised over the 8 corners.
   void updateBoxExcess();
+
+private:
+  /// The planes at octant `octant`'s corner, in the frame reflected so that the corner is (+,+,+): the box
+  /// planes x = X, y = Y, z = Z and the unnormalised chamfers x + y = Cxy, x + z = Cxz, y + z = Cyz.
+  struct CornerPlanes
+  {
+    S X, Y, Z, Cxy, Cxz, Cyz;
+  };
+  CornerPlanes cornerPlanes(int octant) const;
 };
 
 using RSf = RS<float>;

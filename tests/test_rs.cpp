@@ -247,6 +247,18 @@ TYPED_TEST(RSTest, BoxExcessBoundsTheCornerCutsAndTheFilterIsExact)
       fresh.updateBoxExcess();
       ASSERT_EQ(bv.box_excess, fresh.box_excess) << "trial " << trial;
     }
+    // Its closed form is its definition: per corner, the distance from the box corner to the nearest of the
+    // corner's 4 vertices, maximised over the 8 corners.
+    S by_vertices = 0;
+    for (int octant = 0; octant < 8; ++octant)
+    {
+      const fcl::Vector3<S> box_corner(octant & 1 ? ra.lo[0] : ra.hi[0], octant & 2 ? ra.lo[1] : ra.hi[1],
+                                       octant & 4 ? ra.lo[2] : ra.hi[2]);
+      S nearest = std::numeric_limits<S>::max();
+      for (const auto& v : ra.cornerVertices(octant)) nearest = std::min(nearest, (box_corner - v).norm());
+      by_vertices = std::max(by_vertices, nearest);
+    }
+    ASSERT_NEAR(ra.box_excess, by_vertices, tolerance(ra.magnitude())) << "trial " << trial;
     // The principal box reaches at most box_excess past the polytope along any unit direction.
     for (int d = 0; d < 20; ++d)
     {
