@@ -22,8 +22,10 @@ namespace fcl_rs {
 /// (SPLIT_METHOD_MEAN) always cuts u0 at the mean, which leaves children that overlap more and so cost
 /// more BV tests per query. Nodes whose centres coincide along every axis fall back to FCL's halving.
 /// fcl_rs::buildModel<RS<S>> uses it; a BVHModel<RS<S>> built by hand gets it from useSurfaceAreaSplits.
+/// final: FCL's BVSplitterBase has no virtual destructor (std::shared_ptr, as BVHModel holds it, deletes the
+/// type it was made with).
 template <typename S>
-class SurfaceAreaSplitter : public fcl::detail::BVSplitterBase<RS<S>>
+class SurfaceAreaSplitter final : public fcl::detail::BVSplitterBase<RS<S>>
 {
 public:
   static constexpr int kBins = 16;
