@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <fcl/geometry/bvh/BVH_model.h>
@@ -72,11 +73,22 @@ void validateMesh(const std::vector<fcl::Vector3<S>>& vertices, const std::vecto
                                     std::to_string(vertices.size()) + " vertices");
 }
 
+/// The splitter buildModel uses unless told otherwise: SurfaceAreaSplitter for RS (fewer BV tests per query
+/// for a little build time, measured in docs/tradeoff.md), FCL's mean split for FCL's own types.
+template <typename BV>
+std::shared_ptr<fcl::detail::BVSplitterBase<BV>> defaultSplitter()
+{
+  if constexpr (std::is_same<BV, RS<typename BV::S>>::value)
+    return std::make_shared<SurfaceAreaSplitter<typename BV::S>>();
+  else
+    return std::make_shared<fcl::detail::BVSplitter<BV>>(fcl::detail::SPLIT_METHOD_MEAN);
+}
+
 /// A built BVHModel<BV> of the mesh (any BV type: RS or FCL's), split by splitter. Validates the input first.
 template <typename BV>
 std::shared_ptr<fcl::BVHModel<BV>> buildModel(const std::vector<fcl::Vector3<typename BV::S>>& vertices,
                                               const std::vector<fcl::Triangle>& triangles,
-                                              std::shared_ptr<fcl::detail::BVSplitterBase<BV>> splitter)
+                                              std::shared_ptr<fcl::detail::BVSplitterBase<BV>> splitter = defaultSplitter<BV>())
 {
   validateMesh(vertices, triangles);
   auto model = std::make_shared<fcl::BVHModel<BV>>();
@@ -96,43 +108,11 @@ std::shared_ptr<fcl::BVHModel<BV>> buildModel(const std::vector<fcl::Vector3<typ
   return buildModel<BV>(vertices, triangles, std::make_shared<fcl::detail::BVSplitter<BV>>(split));
 }
 
-/// The splitter buildModel uses unless told otherwise: SurfaceAreaSplitter for RS (fewer BV tests per query
-/// for a little build time, measured in docs/tradeoff.md), FCL's mean split for FCL's own types.
-template <typename BV>
-std::shared_ptr<fcl::detail::BVSplitterBase<BV>> defaultSplitter()
+/// Either of the above for a TriangleMesh (rule: nothing, a splitter or a SplitMethodType).
+template <typename BV, typename... Rule>
+std::shared_ptr<fcl::BVHModel<BV>> buildModel(const TriangleMesh<typename BV::S>& mesh, Rule&&... rule)
 {
-  if constexpr (std::is_same<BV, RS<typename BV::S>>::value)
-    return std::make_shared<SurfaceAreaSplitter<typename BV::S>>();
-  else
-    return std::make_shared<fcl::detail::BVSplitter<BV>>(fcl::detail::SPLIT_METHOD_MEAN);
-}
-
-/// A built BVHModel<BV> of the mesh, split by defaultSplitter<BV>().
-template <typename BV>
-std::shared_ptr<fcl::BVHModel<BV>> buildModel(const std::vector<fcl::Vector3<typename BV::S>>& vertices,
-                                              const std::vector<fcl::Triangle>& triangles)
-{
-  return buildModel<BV>(vertices, triangles, defaultSplitter<BV>());
-}
-
-template <typename BV>
-std::shared_ptr<fcl::BVHModel<BV>> buildModel(const TriangleMesh<typename BV::S>& mesh)
-{
-  return buildModel<BV>(mesh.vertices, mesh.triangles);
-}
-
-template <typename BV>
-std::shared_ptr<fcl::BVHModel<BV>> buildModel(const TriangleMesh<typename BV::S>& mesh,
-                                              fcl::detail::SplitMethodType split)
-{
-  return buildModel<BV>(mesh.vertices, mesh.triangles, split);
-}
-
-template <typename BV>
-std::shared_ptr<fcl::BVHModel<BV>> buildModel(const TriangleMesh<typename BV::S>& mesh,
-                                              std::shared_ptr<fcl::detail::BVSplitterBase<BV>> splitter)
-{
-  return buildModel<BV>(mesh.vertices, mesh.triangles, std::move(splitter));
+  return buildModel<BV>(mesh.vertices, mesh.triangles, std::forward<Rule>(rule)...);
 }
 
 /// Moves the vertices of a built model (same triangles, same tree structure) and refits its volumes,

@@ -91,8 +91,6 @@ template <typename S>
 template <typename PointAt>
 void RS<S>::expandPoints(int n, PointAt point_at)
 {
-  // Extremes of the unscaled projections y_i + sign * y_j, scaled by sqrt(1/2) at the end: scaling by a
-  // positive constant is monotone in floating point, so the extremes are those of projectOnSlab's values.
   using Array = Eigen::Array<S, kNumSlabs, 1>;
   Array low = Array::Constant(std::numeric_limits<S>::max());
   Array high = Array::Constant(std::numeric_limits<S>::lowest());
@@ -101,11 +99,7 @@ void RS<S>::expandPoints(int n, PointAt point_at)
   {
     const fcl::Vector3<S> y = toFrame(point_at(i));
     Array v;
-    for (int k = 0; k < kNumSlabs; ++k)
-    {
-      const SlabDirection& d = kSlabDirections[k];
-      v[k] = d.sign == 0 ? y[d.i] : y[d.i] + S(d.sign) * y[d.j];
-    }
+    for (int k = 0; k < kNumSlabs; ++k) v[k] = projectOnSlab(y, k);
     low = low.min(v);
     high = high.max(v);
     largest_norm1 = std::max(largest_norm1, y.template lpNorm<1>());
@@ -113,12 +107,8 @@ void RS<S>::expandPoints(int n, PointAt point_at)
   if (n > 0)
   {
     const S err = 4 * detail::eps<S>() * largest_norm1;  // as expandFrame's, for the largest point
-    for (int k = 0; k < kNumSlabs; ++k)
-    {
-      const S scale = kSlabDirections[k].sign == 0 ? S(1) : S(M_SQRT1_2);
-      lo[k] = std::min(lo[k], low[k] * scale - err);
-      hi[k] = std::max(hi[k], high[k] * scale + err);
-    }
+    lo = lo.cwiseMin((low - err).matrix());
+    hi = hi.cwiseMax((high + err).matrix());
   }
   updateBoxExcess();
 }
