@@ -11,6 +11,7 @@
 // builders fit them). RS is fitted with each frame fit (Fit/RS/vertices is the paper's and the default).
 
 #include "bench_common.h"
+#include "fcl_rs/bvh/frame_fit.h"
 
 #include <fcl/math/bv/AABB.h>
 #include <fcl/math/bv/OBB.h>

@@ -7,6 +7,7 @@
 // issue's targets as ratios, and the accuracy-time plot.
 
 #include "bench_common.h"
+#include "fcl_rs/bvh/frame_fit.h"
 
 #include <fcl/config.h>
 #include <fcl/math/bv/AABB.h>

@@ -10,7 +10,7 @@
 #include <fcl/narrowphase/continuous_collision.h>
 
 #include "fcl_rs/collide.h"
-#include "fcl_rs/rs.h"
+#include "fcl_rs/bv/rs.h"
 
 namespace fcl_rs {
 

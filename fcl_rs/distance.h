@@ -7,7 +7,7 @@
 #include <fcl/narrowphase/distance_request.h>
 #include <fcl/narrowphase/distance_result.h>
 
-#include "fcl_rs/rs.h"
+#include "fcl_rs/bv/rs.h"
 
 namespace fcl_rs {
 

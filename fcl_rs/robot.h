@@ -2,9 +2,9 @@
 #ifndef FCL_RS_ROBOT_H
 #define FCL_RS_ROBOT_H
 
-#include "fcl_rs/robot_model.h"
-#include "fcl_rs/kinematics.h"
-#include "fcl_rs/srdf.h"
-#include "fcl_rs/self_collision.h"
+#include "fcl_rs/robot/robot_model.h"
+#include "fcl_rs/robot/kinematics.h"
+#include "fcl_rs/robot/srdf.h"
+#include "fcl_rs/robot/self_collision.h"
 
 #endif

@@ -11,8 +11,8 @@
 
 #include <fuzzer/FuzzedDataProvider.h>
 
-#include "fcl_rs/directions.h"
-#include "fcl_rs/rs.h"
+#include "fcl_rs/bv/directions.h"
+#include "fcl_rs/bv/rs.h"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <fcl/narrowphase/detail/gjk_solver_indep.h>
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 
-#include "fcl_rs/traversal.h"
+#include "fcl_rs/traversal/collision_traversal.h"
 
 namespace fcl_rs {
 namespace {

@@ -13,7 +13,7 @@
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 
 #include "fcl_rs/collide.h"
-#include "fcl_rs/distance_traversal.h"
+#include "fcl_rs/traversal/distance_traversal.h"
 
 namespace fcl_rs {
 namespace {

@@ -9,7 +9,7 @@
 
 #include <fcl/geometry/bvh/BVH_model.h>
 
-#include "fcl_rs/rs.h"
+#include "fcl_rs/bv/rs.h"
 
 namespace fcl_rs {
 namespace detail {

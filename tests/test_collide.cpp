@@ -32,6 +32,7 @@
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 #include <gtest/gtest.h>
 
+#include "fcl_rs/collide_with_stats.h"
 #include "fcl_rs/fcl_rs.h"
 #include "test_util.h"
 

@@ -14,6 +14,7 @@
 #include <fcl/narrowphase/collision_object.h>
 #include <gtest/gtest.h>
 
+#include "fcl_rs/collide_with_stats.h"
 #include "fcl_rs/fcl_rs.h"
 #include "test_util.h"
 

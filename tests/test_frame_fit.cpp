@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "fcl_rs/collide_with_stats.h"
+#include "fcl_rs/bvh/frame_fit.h"
 #include "fcl_rs/fcl_rs.h"
 #include "test_util.h"
 

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "fcl_rs/pca.h"
-#include "fcl_rs/shapes.h"
+#include "fcl_rs/bv/pca.h"
+#include "fcl_rs/mesh/shapes.h"
 #include "test_util.h"
 
 namespace fcl_rs {

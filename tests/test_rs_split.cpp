@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fcl_rs/collide_with_stats.h"
 #include "fcl_rs/fcl_rs.h"
 #include "test_util.h"
 

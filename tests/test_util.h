@@ -18,8 +18,10 @@
 #include <fcl/narrowphase/detail/traversal/collision/intersect.h>
 #include <gtest/gtest.h>
 
-#include "fcl_rs/mesh_io.h"
-#include "fcl_rs/shapes.h"
+#include "fcl_rs/bvh/build_model.h"
+#include "fcl_rs/bvh/refit_model.h"
+#include "fcl_rs/mesh/load_mesh.h"
+#include "fcl_rs/mesh/shapes.h"
 
 namespace fcl_rs {
 namespace test {

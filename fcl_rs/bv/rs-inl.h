@@ -1,0 +1,646 @@
+// Definitions of RS<S>: growth, merge, Tribox corners, support, volume, overlap and distance bounds.
+#ifndef FCL_RS_RS_INL_H
+#define FCL_RS_RS_INL_H
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "fcl_rs/bv/pca.h"
+#include "fcl_rs/bv/rs.h"
+
+namespace fcl_rs {
+
+namespace detail {
+
+template <typename S>
+constexpr S eps() { return std::numeric_limits<S>::epsilon(); }
+
+/// Unit direction of slab k in frame coordinates.
+template <typename S>
+fcl::Vector3<S> slabDirection(int k)
+{
+  const SlabDirection& d = kSlabDirections[k];
+  fcl::Vector3<S> v = fcl::Vector3<S>::Zero();
+  if (d.sign == 0) { v[d.i] = 1; return v; }
+  v[d.i] = S(M_SQRT1_2);
+  v[d.j] = S(d.sign) * S(M_SQRT1_2);
+  return v;
+}
+
+/// Rows of M combined as slab k's direction: M^T d_k for a unit slab direction d_k.
+template <typename S>
+fcl::Vector3<S> slabOfRows(const fcl::Matrix3<S>& M, int k)
+{
+  const SlabDirection& d = kSlabDirections[k];
+  if (d.sign == 0) return M.row(d.i).transpose();
+  return (M.row(d.i) + S(d.sign) * M.row(d.j)).transpose() * S(M_SQRT1_2);
+}
+
+/// Columns of M combined as slab k's direction: M d_k.
+template <typename S>
+fcl::Vector3<S> slabOfColumns(const fcl::Matrix3<S>& M, int k)
+{
+  const SlabDirection& d = kSlabDirections[k];
+  if (d.sign == 0) return M.col(d.i);
+  return (M.col(d.i) + S(d.sign) * M.col(d.j)) * S(M_SQRT1_2);
+}
+
+template <typename S>
+int octantOf(const fcl::Vector3<S>& dir)
+{
+  return (dir[0] < 0 ? 1 : 0) | (dir[1] < 0 ? 2 : 0) | (dir[2] < 0 ? 4 : 0);
+}
+
+}  // namespace detail
+
+template <typename S>
+RS<S>::RS() : RS(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero())
+{
+}
+
+template <typename S>
+RS<S>::RS(const fcl::Matrix3<S>& axis_, const fcl::Vector3<S>& origin_) : axis(axis_), origin(origin_)
+{
+  lo.setConstant(std::numeric_limits<S>::max());
+  hi.setConstant(-std::numeric_limits<S>::max());
+}
+
+template <typename S>
+bool RS<S>::empty() const
+{
+  return !(lo[0] <= hi[0]);
+}
+
+template <typename S>
+void RS<S>::expandFrame(const fcl::Vector3<S>& y, S abs_err)
+{
+  // Projection rounding is a few ulps of |y|; the caller adds what it knows of y's own error.
+  const S err = abs_err + 4 * detail::eps<S>() * y.template lpNorm<1>();
+  for (int k = 0; k < kNumSlabs; ++k)
+  {
+    const S v = projectOnSlab(y, k);
+    lo[k] = std::min(lo[k], v - err);
+    hi[k] = std::max(hi[k], v + err);
+  }
+}
+
+template <typename S>
+template <typename PointAt>
+void RS<S>::expandPoints(int n, PointAt point_at)
+{
+  using Array = Eigen::Array<S, kNumSlabs, 1>;
+  Array low = Array::Constant(std::numeric_limits<S>::max());
+  Array high = Array::Constant(std::numeric_limits<S>::lowest());
+  S largest_norm1 = 0;
+  for (int i = 0; i < n; ++i)
+  {
+    const fcl::Vector3<S> y = toFrame(point_at(i));
+    Array v;
+    for (int k = 0; k < kNumSlabs; ++k) v[k] = projectOnSlab(y, k);
+    low = low.min(v);
+    high = high.max(v);
+    largest_norm1 = std::max(largest_norm1, y.template lpNorm<1>());
+  }
+  if (n > 0)
+  {
+    const S err = 4 * detail::eps<S>() * largest_norm1;  // as expandFrame's, for the largest point
+    lo = lo.cwiseMin((low - err).matrix());
+    hi = hi.cwiseMax((high + err).matrix());
+  }
+  updateBoxExcess();
+}
+
+template <typename S>
+RS<S>& RS<S>::operator+=(const fcl::Vector3<S>& p)
+{
+  if (empty()) origin = p;
+  expandFrame(toFrame(p), 0);
+  updateBoxExcess();
+  return *this;
+}
+
+template <typename S>
+void RS<S>::updateBoxExcess()
+{
+  box_excess = 0;
+  if (empty()) return;
+  // cornerVertices' four cases in closed form: with a, b, c the depths of the chamfers xy, xz, yz below the
+  // box corner, its vertices on the principal planes are at squared distances a²+b², a²+c², b²+c², the
+  // chamfers' triple point at ex²+ey²+ez²; where the triple point passes a principal plane (e > 0), two
+  // vertices on that plane replace it. Rounding only moves the bound by ulps, which costs pruning at most.
+  S nearest_squared = 0;
+  for (int octant = 0; octant < 8; ++octant)
+  {
+    const CornerPlanes p = cornerPlanes(octant);
+    const S a = p.X + p.Y - p.Cxy, b = p.X + p.Z - p.Cxz, c = p.Y + p.Z - p.Cyz;
+    const S ex = (c - a - b) / 2, ey = (b - a - c) / 2, ez = (a - b - c) / 2;
+    const S ab = a * a + b * b, ac = a * a + c * c, bc = b * b + c * c;
+    S nearest;
+    if (ex <= 0 && ey <= 0 && ez <= 0)
+      nearest = std::min({ex * ex + ey * ey + ez * ez, ab, ac, bc});
+    else if (ex >= ey && ex >= ez)
+      nearest = std::min({a * a + (c - a) * (c - a), b * b + (c - b) * (c - b), ac, bc});
+    else if (ey >= ez)
+      nearest = std::min({a * a + (b - a) * (b - a), c * c + (b - c) * (b - c), ab, bc});
+    else
+      nearest = std::min({b * b + (a - b) * (a - b), c * c + (a - c) * (a - c), ab, ac});
+    nearest_squared = std::max(nearest_squared, nearest);
+  }
+  box_excess = std::sqrt(nearest_squared);
+}
+
+template <typename S>
+RS<S>& RS<S>::operator+=(const RS<S>& other)
+{
+  if (other.empty()) return *this;
+  const auto pts = other.corners();
+  if (empty()) origin = other.origin;
+  // Corners carry the rounding of other's slab arithmetic and of the change of frame.
+  const S abs_err = 8 * detail::eps<S>() * (other.magnitude() + (other.origin - origin).template lpNorm<1>());
+  for (const auto& c : pts) expandFrame(toFrame(other.toModel(c)), abs_err);
+  updateBoxExcess();
+  return *this;
+}
+
+template <typename S>
+RS<S> RS<S>::operator+(const RS<S>& other) const
+{
+  if (other.empty()) return *this;
+  if (empty()) return other;
+  const auto a = corners();
+  const auto b = other.corners();
+  const auto frame = principalFrame<S>(64, [&](int i) -> fcl::Vector3<S> {
+    return i < 32 ? toModel(a[i]) : other.toModel(b[i - 32]);
+  });
+  RS<S> merged(frame.axis, frame.mean);
+  merged += *this;
+  merged += other;
+  return merged;
+}
+
+template <typename S>
+S RS<S>::magnitude() const
+{
+  return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+}
+
+template <typename S>
+typename RS<S>::CornerPlanes RS<S>::cornerPlanes(int octant) const
+{
+  const bool nx = octant & 1, ny = octant & 2, nz = octant & 4;
+  auto chamfer = [this](bool ni, bool nj, int plus, int minus) {
+    const int k = ni == nj ? plus : minus;
+    return S(M_SQRT2) * (ni ? -lo[k] : hi[k]);
+  };
+  return {nx ? -lo[0] : hi[0],
+          ny ? -lo[1] : hi[1],
+          nz ? -lo[2] : hi[2],
+          chamfer(nx, ny, diagonalIndex(0, 1, +1), diagonalIndex(0, 1, -1)),
+          chamfer(nx, nz, diagonalIndex(0, 2, +1), diagonalIndex(0, 2, -1)),
+          chamfer(ny, nz, diagonalIndex(1, 2, +1), diagonalIndex(1, 2, -1))};
+}
+
+template <typename S>
+void RS<S>::cornerVertices(int octant, fcl::Vector3<S>* v) const
+{
+  // Tribox, in the frame reflected so that this corner is (+,+,+) (cornerPlanes).
+  const bool nx = octant & 1, ny = octant & 2, nz = octant & 4;
+  const auto [X, Y, Z, Cxy, Cxz, Cyz] = cornerPlanes(octant);
+
+  // The chamfer triple point can pass at most one principal plane (the slab values are a support
+  // function), which leaves four configurations of four vertices each.
+  const S ex = (Cxy + Cxz - Cyz) / 2 - X;
+  const S ey = (Cxy + Cyz - Cxz) / 2 - Y;
+  const S ez = (Cxz + Cyz - Cxy) / 2 - Z;
+  using V = fcl::Vector3<S>;
+  const V onA(X, Cxy - X, Cxz - X), onB(Cxy - Y, Y, Cyz - Y), onC(Cxz - Z, Cyz - Z, Z);
+  if (ex <= 0 && ey <= 0 && ez <= 0)
+  {
+    v[0] = V(ex + X, ey + Y, ez + Z);
+    v[1] = onA; v[2] = onB; v[3] = onC;
+  }
+  else if (ex >= ey && ex >= ez)
+  {
+    v[0] = V(X, Cxy - X, Cyz - Cxy + X);
+    v[1] = V(X, Cyz - Cxz + X, Cxz - X);
+    v[2] = onB; v[3] = onC;
+  }
+  else if (ey >= ez)
+  {
+    v[0] = V(Cxy - Y, Y, Cxz - Cxy + Y);
+    v[1] = V(Cxz - Cyz + Y, Y, Cyz - Y);
+    v[2] = onA; v[3] = onC;
+  }
+  else
+  {
+    v[0] = V(Cxz - Z, Cxy - Cxz + Z, Z);
+    v[1] = V(Cxy - Cyz + Z, Cyz - Z, Z);
+    v[2] = onA; v[3] = onB;
+  }
+  const V sign(nx ? S(-1) : S(1), ny ? S(-1) : S(1), nz ? S(-1) : S(1));
+  for (int i = 0; i < 4; ++i) v[i] = v[i].cwiseProduct(sign);
+}
+
+template <typename S>
+std::array<fcl::Vector3<S>, 4> RS<S>::cornerVertices(int octant) const
+{
+  std::array<fcl::Vector3<S>, 4> v;
+  cornerVertices(octant, v.data());
+  return v;
+}
+
+template <typename S>
+std::array<fcl::Vector3<S>, 32> RS<S>::corners() const
+{
+  std::array<fcl::Vector3<S>, 32> all;
+  for (int o = 0; o < 8; ++o)
+  {
+    cornerVertices(o, all.data() + 4 * o);
+  }
+  return all;
+}
+
+template <typename S>
+S RS<S>::support(const fcl::Vector3<S>& dir) const
+{
+  // The maximum is at one of the 4 vertices of the corner in dir's octant. Reflect that corner to
+  // (+,+,+) (so e = |dir|) and write the vertices of all four configurations at once: with
+  // a, b, c = how far the chamfer triple point P passes the principal planes (at most one is
+  // positive), the vertices are P - a(1,-1,1) - (b+c)(-1,1,1), onA - 2a e_z, onA - 2a e_y,
+  // onB - 2b e_z, onB - 2b e_x, onC - 2c e_y, onC - 2c e_x (repeats allowed). No branches, which
+  // matters in a traversal where every test meets a different configuration.
+  // Slab ends are picked by indexing, not by conditionals: a sign branch would be mispredicted
+  // half the time.
+  const S ex = std::abs(dir[0]), ey = std::abs(dir[1]), ez = std::abs(dir[2]);
+  const int nx = dir[0] < 0, ny = dir[1] < 0, nz = dir[2] < 0;
+  const S flip[2] = {S(1), S(-1)};
+  const S* const ends[2] = {hi.data(), lo.data()};
+  auto end = [&](int neg, int k) { return flip[neg] * ends[neg][k]; };
+  const S X = end(nx, 0), Y = end(ny, 1), Z = end(nz, 2);
+  // The chamfer over (u_i, u_j) facing this corner is the "plus" diagonal when the signs agree.
+  const int minus = diagonalIndex(0, 1, -1) - diagonalIndex(0, 1, +1);
+  const S Cxy = S(M_SQRT2) * end(nx, diagonalIndex(0, 1, +1) + minus * (nx ^ ny));
+  const S Cxz = S(M_SQRT2) * end(nx, diagonalIndex(0, 2, +1) + minus * (nx ^ nz));
+  const S Cyz = S(M_SQRT2) * end(ny, diagonalIndex(1, 2, +1) + minus * (ny ^ nz));
+  const S Px = (Cxy + Cxz - Cyz) / 2, Py = (Cxy + Cyz - Cxz) / 2, Pz = (Cxz + Cyz - Cxy) / 2;
+  auto positive = [](S v) { return v > 0 ? v : S(0); };
+  const S a = positive(Px - X), b = positive(Py - Y), c = positive(Pz - Z);
+  const S at_p = ex * Px + ey * Py + ez * Pz - a * (ex - ey + ez) - (b + c) * (ey + ez - ex);
+  const S at_a = X * (ex - ey - ez) + Cxy * ey + Cxz * ez - 2 * a * std::min(ey, ez);
+  const S at_b = Y * (ey - ex - ez) + Cxy * ex + Cyz * ez - 2 * b * std::min(ex, ez);
+  const S at_c = Z * (ez - ex - ey) + Cxz * ex + Cyz * ey - 2 * c * std::min(ex, ey);
+  return std::max(std::max(at_p, at_a), std::max(at_b, at_c));
+}
+
+template <typename S>
+bool RS<S>::overlap(const RS<S>& other) const
+{
+  return fcl_rs::overlap<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), *this, other);
+}
+
+template <typename S>
+bool RS<S>::contain(const fcl::Vector3<S>& p) const
+{
+  if (empty()) return false;
+  const fcl::Vector3<S> y = toFrame(p);
+  const S tol = 8 * detail::eps<S>() * (y.template lpNorm<1>() + magnitude());
+  for (int k = 0; k < kNumSlabs; ++k)
+  {
+    const S v = projectOnSlab(y, k);
+    if (v < lo[k] - tol || v > hi[k] + tol) return false;
+  }
+  return true;
+}
+
+template <typename S>
+S RS<S>::distance(const RS<S>& other, fcl::Vector3<S>* P, fcl::Vector3<S>* Q) const
+{
+  return fcl_rs::distance<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), *this, other, P, Q);
+}
+
+template <typename S>
+fcl::Vector3<S> RS<S>::center() const
+{
+  if (empty()) return origin;
+  return toModel(fcl::Vector3<S>((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2));
+}
+
+template <typename S>
+S RS<S>::width() const { return empty() ? S(0) : hi[0] - lo[0]; }
+
+template <typename S>
+S RS<S>::height() const { return empty() ? S(0) : hi[1] - lo[1]; }
+
+template <typename S>
+S RS<S>::depth() const { return empty() ? S(0) : hi[2] - lo[2]; }
+
+template <typename S>
+S RS<S>::size() const
+{
+  return width() * width() + height() * height() + depth() * depth();
+}
+
+template <typename S>
+S RS<S>::volume() const
+{
+  if (empty()) return 0;
+  // Divergence theorem: V = sum over the 18 faces of area_f * (h_f - n_f . c) / 3, for any point c.
+  // Each face polygon is its plane clipped by the other 17 halfspaces, in double, so thin volumes
+  // need no tolerance to decide which corners lie on which face.
+  using V3 = Eigen::Vector3d;
+  const V3 c((double(lo[0]) + hi[0]) / 2, (double(lo[1]) + hi[1]) / 2, (double(lo[2]) + hi[2]) / 2);
+  const double reach = 4 * double(magnitude()) + 1;
+  double total = 0;
+  for (int face = 0; face < 2 * kNumSlabs; ++face)
+  {
+    auto plane = [this](int f, V3& n) {
+      const int k = f % kNumSlabs;
+      const double side = f < kNumSlabs ? 1.0 : -1.0;
+      n = side * detail::slabDirection<double>(k);
+      return f < kNumSlabs ? double(hi[k]) : -double(lo[k]);
+    };
+    V3 n;
+    const double h = plane(face, n);
+    const V3 a = n.unitOrthogonal(), b = n.cross(a), base = h * n;
+    std::vector<V3> poly = {base + reach * (a + b), base + reach * (b - a), base - reach * (a + b),
+                            base + reach * (a - b)};
+    for (int other = 0; other < 2 * kNumSlabs && !poly.empty(); ++other)
+    {
+      if (other == face) continue;
+      V3 m;
+      const double g = plane(other, m);
+      std::vector<V3> kept;
+      for (std::size_t i = 0; i < poly.size(); ++i)
+      {
+        const V3& p = poly[i];
+        const V3& q = poly[(i + 1) % poly.size()];
+        const double dp = m.dot(p) - g, dq = m.dot(q) - g;
+        if (dp <= 0) kept.push_back(p);
+        if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) kept.push_back(p + (q - p) * (dp / (dp - dq)));
+      }
+      poly.swap(kept);
+    }
+    double area = 0;
+    for (std::size_t i = 1; i + 1 < poly.size(); ++i)
+      area += (poly[i] - poly[0]).cross(poly[i + 1] - poly[0]).dot(n);
+    total += 0.5 * std::abs(area) * (h - n.dot(c)) / 3;
+  }
+  return S(std::max(0.0, total));
+}
+
+namespace detail {
+
+/// The principal box of a volume: centre and half extents in its frame.
+template <typename S>
+struct Box
+{
+  explicit Box(const RS<S>& b)
+    : c((b.lo.template head<3>() + b.hi.template head<3>()) / 2), h((b.hi.template head<3>() - b.lo.template head<3>()) / 2)
+  {
+  }
+  fcl::Vector3<S> c, h;
+};
+
+/// b2 expressed in b1's frame (y1 = M y2 + t), both principal boxes, and the rounding tolerance of
+/// tests made there.
+template <typename S>
+struct RelativeFrame
+{
+  fcl::Matrix3<S> M;
+  fcl::Vector3<S> t;
+  Box<S> box1, box2;
+  S tol;
+
+  RelativeFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
+    : box1(b1), box2(b2)
+  {
+    const fcl::Vector3<S> o2 = R * b2.origin;
+    fcl::Matrix3<S> RB;
+    RB.noalias() = R.lazyProduct(b2.axis);
+    M.noalias() = b1.axis.transpose().lazyProduct(RB);
+    t.noalias() = b1.axis.transpose() * (o2 + T - b1.origin);
+    // t loses a few ulps of the magnitudes it is computed from; corners and projections a few ulps
+    // of the volumes' extents (every point of a volume lies within its box).
+    tol = 32 * eps<S>() *
+          (o2.template lpNorm<1>() + T.template lpNorm<1>() + b1.origin.template lpNorm<1>() +
+           3 * (box1.c.cwiseAbs() + box1.h + box2.c.cwiseAbs() + box2.h).maxCoeff());
+  }
+};
+
+/// One volume's principal box projected on the other volume's nine slab directions: each direction
+/// expressed in the projected volume's frame, and the box's interval mid +- radius along it.
+template <typename S>
+struct ProjectedBox
+{
+  /// rows: the other volume's principal axes in this volume's frame; centre: this box's centre in
+  /// the other volume's frame.
+  ProjectedBox(const fcl::Matrix3<S>& rows, const fcl::Vector3<S>& centre, const Box<S>& box)
+  {
+    for (int k = 0; k < kNumSlabs; ++k)
+    {
+      dir[k] = slabOfRows(rows, k);
+      mid[k] = projectOnSlab(centre, k);
+      radius[k] = dir[k].cwiseAbs().dot(box.h);
+    }
+  }
+  fcl::Vector3<S> dir[kNumSlabs];
+  S mid[kNumSlabs];
+  S radius[kNumSlabs];
+};
+
+/// Gap between [lo, hi] and volume b (box c, projection p) along p's direction k; positive means
+/// separated. An exact support is computed only on a side where the box sticks out past the
+/// interval, since only there can the polytope be apart; elsewhere the box bound is as good.
+template <typename S>
+S slabGap(S lo, S hi, const RS<S>& b, const Box<S>& box, const ProjectedBox<S>& p, int k)
+{
+  const fcl::Vector3<S>& e = p.dir[k];
+  const S low_box = p.mid[k] - p.radius[k], high_box = p.mid[k] + p.radius[k];
+  const S shift = p.mid[k] - e.dot(box.c);  // projection of b's frame origin
+  const S lowest = low_box > hi || high_box <= hi ? low_box : shift - b.support(-e);
+  const S highest = high_box < lo || low_box >= lo ? high_box : shift + b.support(e);
+  return std::max(lowest - hi, lo - highest);
+}
+
+/// Both volumes' boxes on the other's directions, with everything a test needs.
+template <typename S>
+struct PairProjection
+{
+  PairProjection(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1_, const RS<S>& b2_)
+    : b1(b1_), b2(b2_), f(R, T, b1_, b2_), on1(f.M, f.M * f.box2.c + f.t, f.box2),
+      on2(f.M.transpose(), f.M.transpose() * (f.box1.c - f.t), f.box1)
+  {
+  }
+
+  /// Gap along b1's slab k (k < 9) or b2's slab k - 9.
+  S gap(int k) const
+  {
+    return k < kNumSlabs ? slabGap(b1.lo[k], b1.hi[k], b2, f.box2, on1, k)
+                         : slabGap(b2.lo[k - kNumSlabs], b2.hi[k - kNumSlabs], b1, f.box1, on2, k - kNumSlabs);
+  }
+
+  const RS<S>& b1;
+  const RS<S>& b2;
+  RelativeFrame<S> f;
+  ProjectedBox<S> on1;  ///< b2's box on b1's directions
+  ProjectedBox<S> on2;  ///< b1's box on b2's directions
+};
+
+}  // namespace detail
+
+namespace detail {
+
+/// The overlap test, compiled once per variant so that the boxed test carries no exact stage.
+template <OverlapTest test, typename S>
+bool overlapTest(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
+{
+  const RelativeFrame<S> f(R, T, b1, b2);
+  const fcl::Matrix3<S>& M = f.M;
+  const fcl::Vector3<S> m2 = M * f.box2.c + f.t;                // b2's box centre in b1's frame
+  const fcl::Vector3<S> m1 = M.transpose() * (f.box1.c - f.t);  // b1's box centre in b2's frame
+  constexpr bool exact_on_1 = test != OverlapTest::kBoxed, exact_on_2 = test == OverlapTest::kTwoSided;
+
+  // Pass 1, boxes only: slab k of b1 (k < 9) or of b2 (k >= 9) against the other's principal box
+  // projected on it (mid +- radius). Apart means separated. Otherwise the other polytope's interval
+  // ends lie within box_excess of the box's, so a side needs an exact support (pass 2) only where
+  // the box overlaps the slab by less than that.
+  // Queue entries are 2 * slab + side (0: the other volume's low end against hi, 1: its high end
+  // against lo), appended without branches: which sides need work is unpredictable.
+  std::uint8_t queued[4 * kNumSlabs + 1];
+  int num_queued = 0;
+  const S excess1 = exact_on_1 ? b2.box_excess : S(0), excess2 = exact_on_2 ? b1.box_excess : S(0);
+  auto boxApart = [&](int k, S mid, S radius) {
+    const bool on_1 = k < kNumSlabs;
+    const int j = on_1 ? k : k - kNumSlabs;
+    const RS<S>& slabs = on_1 ? b1 : b2;
+    const S lo = slabs.lo[j] - f.tol, hi = slabs.hi[j] + f.tol;
+    const S low = mid - radius, high = mid + radius, excess = on_1 ? excess1 : excess2;
+    if (exact_on_1)
+    {
+      queued[num_queued] = std::uint8_t(2 * k);
+      num_queued += low + excess > hi;
+      queued[num_queued] = std::uint8_t(2 * k + 1);
+      num_queued += high - excess < lo;
+    }
+    return low > hi || high < lo;
+  };
+
+  // The six face axes first: most separated pairs are rejected there, as in an OBB test.
+  const fcl::Matrix3<S> A = M.cwiseAbs();
+  const fcl::Vector3<S> r2 = A * f.box2.h, r1 = A.transpose() * f.box1.h;
+  for (int i = 0; i < 3; ++i)
+    if (boxApart(i, m2[i], r2[i]) || boxApart(kNumSlabs + i, m1[i], r1[i])) return false;
+  for (int k = 3; k < kNumSlabs; ++k)
+  {
+    const SlabDirection& d = kSlabDirections[k];
+    const S sign = S(d.sign), scale = S(M_SQRT1_2);
+    const fcl::Vector3<S> e1 = (M.row(d.i) + sign * M.row(d.j)).transpose().cwiseAbs();
+    if (boxApart(k, (m2[d.i] + sign * m2[d.j]) * scale, e1.dot(f.box2.h) * scale)) return false;
+    const fcl::Vector3<S> e2 = (M.col(d.i) + sign * M.col(d.j)).cwiseAbs();
+    if (boxApart(kNumSlabs + k, (m1[d.i] + sign * m1[d.j]) * scale, e2.dot(f.box1.h) * scale)) return false;
+  }
+
+  // Pass 2: exact supports of the other polytope on the queued sides (octant trick).
+  // With sigma = -1 for a low end and +1 for a high end, the other volume is apart when
+  // sigma * shift + support(sigma * e) < sigma * (hi or lo) - tol.
+  for (int q = 0; q < num_queued; ++q)
+  {
+    const int k = queued[q] >> 1, high_end = queued[q] & 1;
+    const bool on_1 = k < kNumSlabs;
+    const int j = on_1 ? k : k - kNumSlabs;
+    const RS<S>& slabs = on_1 ? b1 : b2;
+    const RS<S>& other = on_1 ? b2 : b1;
+    const S sigma = high_end ? S(1) : S(-1);
+    const fcl::Vector3<S> e = sigma * (on_1 ? slabOfRows(M, j) : slabOfColumns(M, j));
+    // Projection of the other volume's frame origin on sigma * e.
+    const S shift = sigma * projectOnSlab(on_1 ? m2 : m1, j) - e.dot(on_1 ? f.box2.c : f.box1.c);
+    const S bound = sigma * (high_end ? slabs.lo[j] : slabs.hi[j]);
+    if (shift + other.support(e) < bound - f.tol) return false;
+  }
+  return true;
+}
+
+}  // namespace detail
+
+template <typename S>
+bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2, OverlapTest test)
+{
+  if (b1.empty() || b2.empty()) return false;
+  switch (test)
+  {
+    case OverlapTest::kOneSided: return detail::overlapTest<OverlapTest::kOneSided>(R, T, b1, b2);
+    case OverlapTest::kBoxed: return detail::overlapTest<OverlapTest::kBoxed>(R, T, b1, b2);
+    default: return detail::overlapTest<OverlapTest::kTwoSided>(R, T, b1, b2);
+  }
+}
+
+template <typename S>
+S distance(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2,
+           fcl::Vector3<S>* P, fcl::Vector3<S>* Q)
+{
+  if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
+  const detail::PairProjection<S> p(R, T, b1, b2);
+  const detail::RelativeFrame<S>& f = p.f;
+  S best = -std::numeric_limits<S>::max();
+  int best_k = 0;
+  for (int k = 0; k < 2 * kNumSlabs; ++k)
+  {
+    const S gap = p.gap(k);
+    if (gap > best) { best = gap; best_k = k; }
+  }
+  if (P || Q)
+  {
+    // Extreme points of each volume along the best direction n (b1's frame), facing each other.
+    fcl::Vector3<S> n = best_k < kNumSlabs ? detail::slabDirection<S>(best_k)
+                                           : detail::slabOfColumns(f.M, best_k - kNumSlabs);
+    const fcl::Vector3<S> c1 = b1.toFrame(b1.center()), c2 = f.M * b2.toFrame(b2.center()) + f.t;
+    if (n.dot(c2 - c1) < 0) n = -n;
+    auto extreme = [](const RS<S>& b, const fcl::Vector3<S>& dir) {
+      const auto v = b.cornerVertices(detail::octantOf(dir));
+      int arg = 0;
+      for (int i = 1; i < 4; ++i)
+        if (dir.dot(v[i]) > dir.dot(v[arg])) arg = i;
+      return v[arg];
+    };
+    if (P) *P = b1.toModel(extreme(b1, n));
+    if (Q) *Q = b2.toModel(extreme(b2, -(f.M.transpose() * n)));
+  }
+  return std::max(S(0), best - f.tol);
+}
+
+template <typename S, typename PointAt>
+RS<S> fitPoints(int n, PointAt point_at)
+{
+  const PrincipalFrame<S> frame = principalFrame<S>(n, point_at);
+  RS<S> bv(frame.axis, frame.mean);
+  bv.expandPoints(n, point_at);
+  return bv;
+}
+
+template <typename S>
+RS<S> fitPoints(const fcl::Vector3<S>* points, int n)
+{
+  return fitPoints<S>(n, [points](int i) -> const fcl::Vector3<S>& { return points[i]; });
+}
+
+template <typename S>
+void fit(const fcl::Vector3<S>* const points, int n, RS<S>& bv)
+{
+  bv = n > 0 ? fitPoints<S>(points, n) : RS<S>();
+}
+
+template <typename S>
+RS<S> transform(const RS<S>& bv, const fcl::Transform3<S>& tf)
+{
+  RS<S> moved = bv;
+  moved.axis = tf.linear() * bv.axis;
+  moved.origin = tf * bv.origin;
+  return moved;
+}
+
+}  // namespace fcl_rs
+
+#endif

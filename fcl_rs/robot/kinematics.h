@@ -1,0 +1,112 @@
+// Forward kinematics of a RobotModel (fixed, revolute, continuous, prismatic, mimic) and random configurations.
+#ifndef FCL_RS_KINEMATICS_H
+#define FCL_RS_KINEMATICS_H
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fcl/common/types.h>
+
+#include "fcl_rs/robot/robot_model.h"
+
+namespace fcl_rs {
+
+/// Link poses from joint positions. A configuration q holds one value per RobotModel::variable_joints entry
+/// (radians or metres); mimic joints follow their leader. Copies what it needs: the model may be destroyed.
+template <typename S>
+class Kinematics
+{
+public:
+  explicit Kinematics(const RobotModel& robot) : num_links_(int(robot.links.size()))
+  {
+    lower_.resize(robot.numVariables());
+    upper_.resize(robot.numVariables());
+    for (const RobotJoint& j : robot.joints)
+    {
+      joints_.push_back(Joint{j.type, j.parent_link, j.child_link, j.origin.cast<S>(), j.axis.cast<S>(),
+                              j.variable >= 0 ? j.variable : j.mimic_variable, S(j.multiplier), S(j.offset)});
+      if (j.variable < 0) continue;
+      // Continuous joints have no limits; one turn either way covers every pose.
+      const bool continuous = j.type == JointType::kContinuous;
+      lower_[j.variable] = continuous ? S(-M_PI) : S(j.lower);
+      upper_[j.variable] = continuous ? S(M_PI) : S(j.upper);
+    }
+  }
+
+  int numVariables() const { return int(lower_.size()); }
+  int numLinks() const { return num_links_; }
+  /// Limits of each variable ([-pi, pi] for continuous joints).
+  const fcl::VectorX<S>& lower() const { return lower_; }
+  const fcl::VectorX<S>& upper() const { return upper_; }
+
+  bool withinLimits(const fcl::VectorX<S>& q) const
+  {
+    return q.size() == lower_.size() && (q.array() >= lower_.array()).all() && (q.array() <= upper_.array()).all();
+  }
+
+  /// poses[i] = pose of link i in the root link's frame. Limits are not enforced (see withinLimits).
+  /// Throws std::invalid_argument when q has the wrong size or a non-finite entry.
+  void linkPoses(const fcl::VectorX<S>& q, std::vector<fcl::Transform3<S>>& poses) const
+  {
+    if (q.size() != lower_.size())
+      throw std::invalid_argument("fcl_rs::Kinematics: configuration has " + std::to_string(q.size()) +
+                                  " values, the robot has " + std::to_string(lower_.size()) + " joint variables");
+    if (!q.allFinite()) throw std::invalid_argument("fcl_rs::Kinematics: configuration has a non-finite value");
+    poses.resize(num_links_);
+    if (num_links_ > 0) poses[0].setIdentity();
+    for (const Joint& j : joints_)
+    {
+      fcl::Transform3<S>& pose = poses[j.child];
+      pose = poses[j.parent] * j.origin;
+      if (j.variable < 0) continue;
+      const S value = j.multiplier * q[j.variable] + j.offset;
+      if (j.type == JointType::kPrismatic)
+        pose.translation() += pose.linear() * (j.axis * value);
+      else
+        pose.linear() = pose.linear() * Eigen::AngleAxis<S>(value, j.axis).toRotationMatrix();
+    }
+  }
+
+  std::vector<fcl::Transform3<S>> linkPoses(const fcl::VectorX<S>& q) const
+  {
+    std::vector<fcl::Transform3<S>> poses;
+    linkPoses(q, poses);
+    return poses;
+  }
+
+  /// A configuration drawn uniformly within the limits (drawn in double, so float and double agree).
+  template <typename Rng>
+  fcl::VectorX<S> randomConfiguration(Rng& rng) const
+  {
+    fcl::VectorX<S> q(lower_.size());
+    for (int i = 0; i < q.size(); ++i)
+    {
+      std::uniform_real_distribution<double> u{double(lower_[i]), double(upper_[i])};
+      q[i] = std::min(std::max(S(u(rng)), lower_[i]), upper_[i]);  // rounding to float may leave the range
+    }
+    return q;
+  }
+
+private:
+  struct Joint
+  {
+    JointType type;
+    int parent, child;
+    fcl::Transform3<S> origin;
+    fcl::Vector3<S> axis;
+    int variable;  ///< own variable, the leader's for a mimic joint, -1 for fixed joints
+    S multiplier, offset;
+    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+  };
+  int num_links_;
+  std::vector<Joint> joints_;
+  fcl::VectorX<S> lower_, upper_;
+};
+
+}  // namespace fcl_rs
+
+#endif

@@ -1,0 +1,87 @@
+// Robot self-collision: one collision model per link with a BV type chosen at run time, over a fixed pair list.
+#ifndef FCL_RS_SELF_COLLISION_H
+#define FCL_RS_SELF_COLLISION_H
+
+#include <array>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fcl_rs/collide_with_stats.h"
+#include "fcl_rs/collide.h"
+#include "fcl_rs/robot/kinematics.h"
+#include "fcl_rs/robot/robot_model.h"
+#include "fcl_rs/robot/srdf.h"
+
+namespace fcl_rs {
+
+/// The bounding volume of the links' mesh trees.
+enum class BVType { kRS, kOBBRSS, kOBB, kRSS, kKDOP18 };
+inline constexpr std::array<BVType, 5> kRobotBVTypes = {BVType::kRS, BVType::kOBBRSS, BVType::kOBB, BVType::kRSS,
+                                                        BVType::kKDOP18};
+
+/// "RS", "OBBRSS", "OBB", "RSS", "KDOP18".
+const char* bvTypeName(BVType bv);
+/// The BV type of a name bvTypeName returns (any letter case); throws std::invalid_argument listing the names.
+BVType parseBVType(const std::string& name);
+
+/// Two link indices (RobotModel::links), first < second.
+using LinkPair = std::pair<int, int>;
+
+/// Self-collision checker for one robot and one BV type.
+///
+/// Every link with collision geometry gets one BVHModel<BV> holding all its <mesh> elements, plus one FCL shape
+/// per box, cylinder or sphere element. The pair list is fixed at construction: every two links with geometry,
+/// except adjacent links (a link and its nearest ancestor with geometry, so links without geometry such as
+/// panda_link8 do not hide an adjacency) and disabled pairs (SRDF). A check runs forward kinematics, skips
+/// pairs whose bounding spheres are apart, then tests the link geometries: a pair collides when any of its
+/// elements touch (FCL's triangle and GJK tests decide, so every BV type reports the same pairs).
+///
+/// How each BV type is queried (the fastest path FCL offers for it):
+/// * RS, OBBRSS, OBB, RSS: mesh-mesh in the links' own frames through collideWithStats (the relative
+///   transform, no copy; fcl::collide would copy and rebuild RSS trees per query); mesh-shape and
+///   shape-shape through fcl_rs::collide (RS) or fcl::collide (the others).
+/// * KDOP18: FCL's k-DOPs are axis-aligned, so they have no local-frame test. Once per check and only for the
+///   links a pair needs, the link's vertices are moved to the world frame and its tree is refitted bottom-up
+///   (same topology, exact leaves; cheaper than FCL's per-query copy and rebuild); the trees are then tested
+///   with identity transforms.
+///
+/// Not thread-safe (the KDOP18 trees and scratch results are updated per check): use one checker per thread.
+template <typename S>
+class SelfCollision
+{
+public:
+  /// Throws std::invalid_argument when a disabled pair names a link the robot does not have.
+  SelfCollision(const RobotModel& robot, BVType bv, const std::vector<DisabledCollision>& disabled = {});
+  ~SelfCollision();
+  SelfCollision(SelfCollision&&) noexcept;
+  SelfCollision& operator=(SelfCollision&&) noexcept;
+
+  BVType bvType() const;
+  const Kinematics<S>& kinematics() const;
+  const std::vector<std::string>& linkNames() const;
+  /// The link pairs every check tests, sorted.
+  const std::vector<LinkPair>& pairs() const;
+
+  /// The colliding pairs at configuration q (in the order of pairs()). When stats is given, the BV and
+  /// triangle tests of the mesh-mesh queries are added to it.
+  std::vector<LinkPair> check(const fcl::VectorX<S>& q, QueryStats* stats = nullptr);
+  /// The same at given link poses, one per link (as Kinematics::linkPoses returns them).
+  std::vector<LinkPair> checkPoses(const std::vector<fcl::Transform3<S>>& poses, QueryStats* stats = nullptr);
+  /// Whether any pair collides at q; stops at the first colliding pair (the query a planner makes).
+  bool inCollision(const fcl::VectorX<S>& q);
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+#define FCL_RS_DECLARE_SELF_COLLISION(S) extern template class SelfCollision<S>;
+FCL_RS_DECLARE_SELF_COLLISION(float)
+FCL_RS_DECLARE_SELF_COLLISION(double)
+#undef FCL_RS_DECLARE_SELF_COLLISION
+
+}  // namespace fcl_rs
+
+#endif

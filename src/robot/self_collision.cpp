@@ -1,0 +1,429 @@
+// SelfCollision: per-link collision models of a run-time BV type, bounding-sphere filter, pair tests.
+#include "fcl_rs/collide_with_stats.h"
+#include "fcl_rs/robot/self_collision.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/math/bv/OBB.h>
+#include <fcl/math/bv/OBBRSS.h>
+#include <fcl/math/bv/RSS.h>
+#include <fcl/math/bv/kDOP.h>
+#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+#include <fcl/narrowphase/detail/traversal/collision/mesh_collision_traversal_node.h>
+#include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
+#include <fcl/narrowphase/detail/traversal/collision_node.h>
+
+#include "fcl_rs/bvh/build_model.h"
+#include "fcl_rs/bv/rs_fit.h"
+
+namespace fcl_rs {
+
+const char* bvTypeName(BVType bv)
+{
+  switch (bv)
+  {
+    case BVType::kRS: return "RS";
+    case BVType::kOBBRSS: return "OBBRSS";
+    case BVType::kOBB: return "OBB";
+    case BVType::kRSS: return "RSS";
+    case BVType::kKDOP18: return "KDOP18";
+  }
+  return "?";
+}
+
+BVType parseBVType(const std::string& name)
+{
+  std::string upper = name;
+  std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return char(std::toupper(c)); });
+  std::string names;
+  for (BVType bv : kRobotBVTypes)
+  {
+    if (upper == bvTypeName(bv)) return bv;
+    names += std::string(names.empty() ? "" : ", ") + bvTypeName(bv);
+  }
+  throw std::invalid_argument("fcl_rs: unknown BV type '" + name + "' (expected one of " + names + ")");
+}
+
+namespace {
+
+template <typename S>
+using Tf = fcl::Transform3<S>;
+
+/// The mesh trees of all links for one BV type, and the mesh-mesh and mesh-shape tests on them.
+template <typename S>
+class MeshTrees
+{
+public:
+  virtual ~MeshTrees() = default;
+  /// Called once per check before any test, with the poses every test of the check uses.
+  virtual void setPoses(const std::vector<Tf<S>>& /*poses*/) {}
+  virtual bool meshMesh(int a, const Tf<S>& ta, int b, const Tf<S>& tb, const fcl::CollisionRequest<S>& request,
+                        QueryStats* stats) = 0;
+  virtual bool meshShape(int a, const Tf<S>& ta, const fcl::CollisionGeometry<S>& shape, const Tf<S>& ts,
+                         const fcl::CollisionRequest<S>& request) = 0;
+};
+
+/// RS, OBBRSS, OBB, RSS: trees stay in their link frames; queries use the relative transform.
+template <typename BV>
+class LocalTrees : public MeshTrees<typename BV::S>
+{
+  using S = typename BV::S;
+
+public:
+  explicit LocalTrees(const std::vector<TriangleMesh<S>>& meshes)
+  {
+    for (const auto& m : meshes) models_.push_back(m.triangles.empty() ? nullptr : buildModel<BV>(m));
+  }
+  bool meshMesh(int a, const Tf<S>& ta, int b, const Tf<S>& tb, const fcl::CollisionRequest<S>& request,
+                QueryStats* stats) override
+  {
+    fcl::CollisionResult<S> result;
+    const QueryStats s = collideWithStats(*models_[a], ta, *models_[b], tb, request, result);
+    if (stats)
+    {
+      stats->num_bv_tests += s.num_bv_tests;
+      stats->num_leaf_tests += s.num_leaf_tests;
+    }
+    return result.isCollision();
+  }
+  bool meshShape(int a, const Tf<S>& ta, const fcl::CollisionGeometry<S>& shape, const Tf<S>& ts,
+                 const fcl::CollisionRequest<S>& request) override
+  {
+    fcl::CollisionResult<S> result;
+    return fcl_rs::collide(models_[a].get(), ta, &shape, ts, request, result) > 0;
+  }
+
+private:
+  std::vector<std::shared_ptr<fcl::BVHModel<BV>>> models_;
+};
+
+/// KDOP18: world-frame trees, refitted on demand once per check (see the class comment in self_collision.h).
+template <typename S>
+class WorldKDOPTrees : public MeshTrees<S>
+{
+  using BV = fcl::KDOP<S, 18>;
+  using Solver = fcl::detail::GJKSolver_libccd<S>;
+
+public:
+  explicit WorldKDOPTrees(const std::vector<TriangleMesh<S>>& meshes)
+  {
+    for (const auto& m : meshes)
+    {
+      models_.push_back(m.triangles.empty() ? nullptr : buildModel<BV>(m));
+      local_.push_back(m.vertices);
+    }
+    current_.assign(meshes.size(), false);
+  }
+  void setPoses(const std::vector<Tf<S>>& poses) override
+  {
+    poses_ = &poses;
+    std::fill(current_.begin(), current_.end(), false);
+  }
+  bool meshMesh(int a, const Tf<S>&, int b, const Tf<S>&, const fcl::CollisionRequest<S>& request,
+                QueryStats* stats) override
+  {
+    fcl::detail::MeshCollisionTraversalNode<BV> node;
+    fcl::CollisionResult<S> result;
+    Tf<S> identity1 = Tf<S>::Identity(), identity2 = Tf<S>::Identity();
+    fcl::detail::initialize(node, world(a), identity1, world(b), identity2, request, result);
+    node.enable_statistics = stats != nullptr;
+    fcl::detail::collide(&node);
+    if (stats)
+    {
+      stats->num_bv_tests += node.num_bv_tests;
+      stats->num_leaf_tests += node.num_leaf_tests;
+    }
+    return result.isCollision();
+  }
+  bool meshShape(int a, const Tf<S>&, const fcl::CollisionGeometry<S>& shape, const Tf<S>& ts,
+                 const fcl::CollisionRequest<S>& request) override
+  {
+    switch (shape.getNodeType())
+    {
+      case fcl::GEOM_BOX: return meshShapeOf(a, static_cast<const fcl::Box<S>&>(shape), ts, request);
+      case fcl::GEOM_CYLINDER: return meshShapeOf(a, static_cast<const fcl::Cylinder<S>&>(shape), ts, request);
+      case fcl::GEOM_SPHERE: return meshShapeOf(a, static_cast<const fcl::Sphere<S>&>(shape), ts, request);
+      default: throw std::logic_error("fcl_rs::SelfCollision: a link shape is not a box, cylinder or sphere");
+    }
+  }
+
+private:
+  fcl::BVHModel<BV>& world(int link)
+  {
+    fcl::BVHModel<BV>& m = *models_[link];
+    if (current_[link]) return m;
+    const Tf<S>& pose = (*poses_)[link];
+    m.beginReplaceModel();
+    for (const auto& v : local_[link]) m.replaceVertex(pose * v);
+    m.endReplaceModel(/*refit=*/true, /*bottomup=*/true);
+    current_[link] = true;
+    return m;
+  }
+  template <typename Shape>
+  bool meshShapeOf(int a, const Shape& shape, const Tf<S>& ts, const fcl::CollisionRequest<S>& request)
+  {
+    fcl::detail::MeshShapeCollisionTraversalNode<BV, Shape, Solver> node;
+    fcl::CollisionResult<S> result;
+    Tf<S> identity = Tf<S>::Identity();
+    fcl::detail::initialize(node, world(a), identity, shape, ts, &solver_, request, result);
+    fcl::detail::collide(&node);
+    return result.isCollision();
+  }
+
+  std::vector<std::shared_ptr<fcl::BVHModel<BV>>> models_;
+  std::vector<std::vector<fcl::Vector3<S>>> local_;
+  std::vector<bool> current_;
+  const std::vector<Tf<S>>* poses_ = nullptr;
+  Solver solver_;
+};
+
+template <typename S>
+std::unique_ptr<MeshTrees<S>> makeTrees(BVType bv, const std::vector<TriangleMesh<S>>& meshes)
+{
+  switch (bv)
+  {
+    case BVType::kRS: return std::make_unique<LocalTrees<RS<S>>>(meshes);
+    case BVType::kOBBRSS: return std::make_unique<LocalTrees<fcl::OBBRSS<S>>>(meshes);
+    case BVType::kOBB: return std::make_unique<LocalTrees<fcl::OBB<S>>>(meshes);
+    case BVType::kRSS: return std::make_unique<LocalTrees<fcl::RSS<S>>>(meshes);
+    case BVType::kKDOP18: return std::make_unique<WorldKDOPTrees<S>>(meshes);
+  }
+  throw std::invalid_argument("fcl_rs::SelfCollision: unknown BV type");
+}
+
+template <typename S>
+std::shared_ptr<fcl::CollisionGeometry<S>> makeShape(const Primitive& p)
+{
+  std::shared_ptr<fcl::CollisionGeometry<S>> shape;
+  switch (p.type)
+  {
+    case Primitive::Type::kBox: shape = std::make_shared<fcl::Box<S>>(p.size.cast<S>()); break;
+    case Primitive::Type::kCylinder: shape = std::make_shared<fcl::Cylinder<S>>(S(p.size[0]), S(p.size[1])); break;
+    case Primitive::Type::kSphere: shape = std::make_shared<fcl::Sphere<S>>(S(p.size[0])); break;
+  }
+  shape->computeLocalAABB();
+  return shape;
+}
+
+/// Radius of a ball about the primitive's origin that holds it.
+double primitiveRadius(const Primitive& p)
+{
+  switch (p.type)
+  {
+    case Primitive::Type::kBox: return 0.5 * p.size.norm();
+    case Primitive::Type::kCylinder: return std::hypot(p.size[0], 0.5 * p.size[1]);
+    case Primitive::Type::kSphere: return p.size[0];
+  }
+  return 0;
+}
+
+}  // namespace
+
+template <typename S>
+struct SelfCollision<S>::Impl
+{
+  struct Shape
+  {
+    std::shared_ptr<fcl::CollisionGeometry<S>> geometry;
+    Tf<S> origin;
+  };
+  struct Link
+  {
+    bool has_mesh = false;
+    std::vector<Shape> shapes;
+    fcl::Vector3<S> center = fcl::Vector3<S>::Zero();  ///< bounding sphere in the link frame
+    S radius = 0;
+  };
+
+  Impl(const RobotModel& robot, BVType bv_type) : bv(bv_type), kinematics(robot) {}
+
+  bool collides(int a, int b, QueryStats* stats)
+  {
+    const Link& la = links[a];
+    const Link& lb = links[b];
+    const Tf<S>& ta = poses[a];
+    const Tf<S>& tb = poses[b];
+    // Bounding spheres, padded for rounding in the world-frame centres.
+    const fcl::Vector3<S> ca = ta * la.center, cb = tb * lb.center;
+    const S reach = la.radius + lb.radius + S(1e-5) * (la.radius + lb.radius + ca.norm() + cb.norm());
+    if ((ca - cb).squaredNorm() > reach * reach) return false;
+
+    if (la.has_mesh && lb.has_mesh && trees->meshMesh(a, ta, b, tb, request, stats)) return true;
+    if (la.has_mesh)
+      for (const Shape& s : lb.shapes)
+        if (trees->meshShape(a, ta, *s.geometry, tb * s.origin, request)) return true;
+    if (lb.has_mesh)
+      for (const Shape& s : la.shapes)
+        if (trees->meshShape(b, tb, *s.geometry, ta * s.origin, request)) return true;
+    for (const Shape& sa : la.shapes)
+      for (const Shape& sb : lb.shapes)
+      {
+        fcl::CollisionResult<S> result;
+        if (fcl_rs::collide(sa.geometry.get(), ta * sa.origin, sb.geometry.get(), tb * sb.origin, request, result))
+          return true;
+      }
+    return false;
+  }
+
+  /// Tests the pair list at `poses`.
+  std::vector<LinkPair> testPairs(QueryStats* stats, bool stop_at_first)
+  {
+    trees->setPoses(poses);
+    std::vector<LinkPair> colliding;
+    for (const LinkPair& p : pairs)
+      if (collides(p.first, p.second, stats))
+      {
+        colliding.push_back(p);
+        if (stop_at_first) break;
+      }
+    return colliding;
+  }
+
+  BVType bv;
+  Kinematics<S> kinematics;
+  std::vector<std::string> names;
+  std::vector<Link> links;
+  std::vector<LinkPair> pairs;
+  std::unique_ptr<MeshTrees<S>> trees;
+  std::vector<Tf<S>> poses;
+  fcl::CollisionRequest<S> request{/*num_max_contacts=*/1, /*enable_contact=*/false};
+};
+
+template <typename S>
+SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::vector<DisabledCollision>& disabled)
+  : impl_(std::make_unique<Impl>(robot, bv))
+{
+  const int n = int(robot.links.size());
+  std::vector<TriangleMesh<S>> meshes(n);
+  impl_->links.resize(n);
+  for (int i = 0; i < n; ++i)
+  {
+    const RobotLink& src = robot.links[i];
+    typename Impl::Link& link = impl_->links[i];
+    impl_->names.push_back(src.name);
+    link.has_mesh = !src.mesh.triangles.empty();
+    if (link.has_mesh)
+    {
+      for (const auto& v : src.mesh.vertices) meshes[i].vertices.push_back(v.template cast<S>());
+      meshes[i].triangles = src.mesh.triangles;
+    }
+    // Bounding sphere (in double): centre of the geometry's box, radius to the farthest point.
+    fcl::Vector3d lo = fcl::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const auto& v : src.mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    for (const Primitive& p : src.primitives)
+    {
+      const double r = primitiveRadius(p);
+      lo = lo.cwiseMin(p.origin.translation() - fcl::Vector3d::Constant(r));
+      hi = hi.cwiseMax(p.origin.translation() + fcl::Vector3d::Constant(r));
+      link.shapes.push_back({makeShape<S>(p), p.origin.template cast<S>()});
+    }
+    if (!src.hasGeometry()) continue;
+    const fcl::Vector3d c = 0.5 * (lo + hi);
+    double radius = 0;
+    for (const auto& v : src.mesh.vertices) radius = std::max(radius, (v - c).norm());
+    for (const Primitive& p : src.primitives)
+      radius = std::max(radius, (p.origin.translation() - c).norm() + primitiveRadius(p));
+    link.center = c.cast<S>();
+    link.radius = S(radius * (1 + 1e-6));
+  }
+  impl_->trees = makeTrees<S>(bv, meshes);
+
+  std::set<LinkPair> skip;
+  auto ordered = [](int a, int b) { return a < b ? LinkPair(a, b) : LinkPair(b, a); };
+  for (const DisabledCollision& d : disabled)
+  {
+    const int a = robot.linkIndex(d.link1), b = robot.linkIndex(d.link2);
+    if (a < 0 || b < 0)
+      throw std::invalid_argument("fcl_rs::SelfCollision: disabled pair (" + d.link1 + ", " + d.link2 + ")" +
+                                  (d.source.empty() ? "" : " from " + d.source) + " names no link of robot '" +
+                                  robot.name + "': '" + (a < 0 ? d.link1 : d.link2) + "'");
+    skip.insert(ordered(a, b));
+  }
+  // Adjacent: a link and its nearest ancestor with geometry.
+  for (int i = 0; i < n; ++i)
+  {
+    if (!robot.links[i].hasGeometry()) continue;
+    for (int j = robot.links[i].parent_joint; j >= 0;)
+    {
+      const int parent = robot.joints[j].parent_link;
+      if (robot.links[parent].hasGeometry())
+      {
+        skip.insert(ordered(i, parent));
+        break;
+      }
+      j = robot.links[parent].parent_joint;
+    }
+  }
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b)
+      if (robot.links[a].hasGeometry() && robot.links[b].hasGeometry() && !skip.count({a, b}))
+        impl_->pairs.emplace_back(a, b);
+}
+
+template <typename S>
+SelfCollision<S>::~SelfCollision() = default;
+template <typename S>
+SelfCollision<S>::SelfCollision(SelfCollision&&) noexcept = default;
+template <typename S>
+SelfCollision<S>& SelfCollision<S>::operator=(SelfCollision&&) noexcept = default;
+
+template <typename S>
+BVType SelfCollision<S>::bvType() const
+{
+  return impl_->bv;
+}
+
+template <typename S>
+const Kinematics<S>& SelfCollision<S>::kinematics() const
+{
+  return impl_->kinematics;
+}
+
+template <typename S>
+const std::vector<std::string>& SelfCollision<S>::linkNames() const
+{
+  return impl_->names;
+}
+
+template <typename S>
+const std::vector<LinkPair>& SelfCollision<S>::pairs() const
+{
+  return impl_->pairs;
+}
+
+template <typename S>
+std::vector<LinkPair> SelfCollision<S>::check(const fcl::VectorX<S>& q, QueryStats* stats)
+{
+  impl_->kinematics.linkPoses(q, impl_->poses);
+  return impl_->testPairs(stats, /*stop_at_first=*/false);
+}
+
+template <typename S>
+std::vector<LinkPair> SelfCollision<S>::checkPoses(const std::vector<fcl::Transform3<S>>& poses, QueryStats* stats)
+{
+  if (poses.size() != impl_->links.size())
+    throw std::invalid_argument("fcl_rs::SelfCollision: " + std::to_string(poses.size()) + " poses for " +
+                                std::to_string(impl_->links.size()) + " links");
+  impl_->poses = poses;
+  return impl_->testPairs(stats, /*stop_at_first=*/false);
+}
+
+template <typename S>
+bool SelfCollision<S>::inCollision(const fcl::VectorX<S>& q)
+{
+  impl_->kinematics.linkPoses(q, impl_->poses);
+  return !impl_->testPairs(nullptr, /*stop_at_first=*/true).empty();
+}
+
+template class SelfCollision<float>;
+template class SelfCollision<double>;
+
+}  // namespace fcl_rs
