@@ -39,27 +39,11 @@
 namespace {
 
 using fcl_rs::TriangleMesh;
+using fcl_rs::test::allContactsRequest;
+using fcl_rs::test::nearbyPoses;
+using fcl_rs::test::poseString;
+using fcl_rs::test::scalarName;
 using fcl_rs::test::TrianglePairs;
-
-// Exhaustive: large enough that no query stops early.
-constexpr std::size_t kAllContacts = 1000000;
-
-template <typename S>
-std::string scalarName()
-{
-  return std::is_same<S, float>::value ? "float" : "double";
-}
-
-template <typename S>
-std::string poseString(const fcl::Transform3<S>& tf)
-{
-  std::ostringstream o;
-  o << std::setprecision(std::numeric_limits<S>::max_digits10) << "R=[";
-  for (int i = 0; i < 3; ++i)
-    o << tf.linear()(i, 0) << ' ' << tf.linear()(i, 1) << ' ' << tf.linear()(i, 2) << (i < 2 ? "; " : "]");
-  o << " t=[" << tf.translation().x() << ' ' << tf.translation().y() << ' ' << tf.translation().z() << ']';
-  return o.str();
-}
 
 /// Up to `limit` elements of a \ b, for failure messages.
 template <typename T>
@@ -155,10 +139,7 @@ std::optional<Mesh<S>> sharedMesh(const std::string& relative, S scale = 1)
                                      << " is missing; the project's setup scripts install assimp-testmodels";  \
   const Mesh<S>& var = *var##_opt
 
-#define REQUIRE_SHARED(var, S, relative, scale)                                                                \
-  const auto var##_opt = sharedMesh<S>(relative, scale);                                                     \
-  if (!var##_opt) GTEST_SKIP() << "shared data file " << FCL_RS_SHARED_DATA_DIR << "/" << relative << " is missing"; \
-  const Mesh<S>& var = *var##_opt
+#define REQUIRE_SHARED(var, S, relative, scale) FCL_RS_REQUIRE_SHARED(var, relative, sharedMesh<S>(relative, scale))
 
 /// (R, T) exactly as FCL's oriented nodes compute them (fcl::relativeTransform), as one transform. Handing the
 /// brute force (identity, this) makes the oracle run each triangle test on the very same R and T the tree uses,
@@ -182,19 +163,6 @@ TrianglePairs bruteForce(const Mesh<S>& a, const fcl::Transform3<S>& tf1, const 
   return fcl_rs::test::bruteForcePairs(a.tri, fcl::Transform3<S>::Identity(), b.tri, fclRelative(tf1, tf2));
 }
 
-/// Pose pair: a anywhere within base_extent, b's centre offset from a's by a uniform vector in a cube of
-/// half-size spread * (ra + rb), both rotations uniform. spread is chosen per pair so that a third to a half collide.
-template <typename S, typename Rng>
-std::pair<fcl::Transform3<S>, fcl::Transform3<S>> nearbyPoses(Rng& rng, const Mesh<S>& a, const Mesh<S>& b, S spread,
-                                                              S base_extent)
-{
-  const fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, base_extent);
-  fcl::Transform3<S> tf2 = fcl_rs::test::randomPose<S>(rng, spread * (a.radius + b.radius));
-  const fcl::Vector3<S> offset = tf2.translation();
-  tf2.translation() = tf1 * a.center + offset - tf2.linear() * b.center;
-  return {tf1, tf2};
-}
-
 /// A contact as a comparable value (everything but the geometry pointers).
 template <typename S>
 using ContactKey = std::tuple<int, int, S, S, S, S, S, S, S>;
@@ -215,15 +183,6 @@ std::vector<ContactKey<S>> contactKeys(const fcl::CollisionResult<S>& r, bool wi
   }
   std::sort(keys.begin(), keys.end());
   return keys;
-}
-
-template <typename S>
-fcl::CollisionRequest<S> request(std::size_t num_max_contacts, bool enable_contact,
-                                 fcl::GJKSolverType solver = fcl::GST_LIBCCD)
-{
-  fcl::CollisionRequest<S> req(num_max_contacts, enable_contact);
-  req.gjk_solver_type = solver;
-  return req;
 }
 
 struct PairTally
@@ -266,7 +225,7 @@ bool checkMeshPose(const Mesh<S>& a, const fcl::Transform3<S>& tf1, const Mesh<S
 
   {  // exhaustive, no contact geometry: the reported triangle pairs are exactly the intersecting ones
     fcl::CollisionResult<S> res;
-    const std::size_t n = fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, request<S>(kAllContacts, false), res);
+    const std::size_t n = fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, allContactsRequest<S>(false), res);
     const TrianglePairs rs = fcl_rs::test::contactPairs(res);
     ok &= n == res.numContacts() && rs.size() == n && rs == brute && res.isCollision() == !brute.empty();
     EXPECT_EQ(n, res.numContacts());
@@ -275,7 +234,7 @@ bool checkMeshPose(const Mesh<S>& a, const fcl::Transform3<S>& tf1, const Mesh<S
   }
   {  // first contact: verdict and a genuine pair
     fcl::CollisionResult<S> res;
-    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, request<S>(1, false), res);
+    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, fcl::CollisionRequest<S>(), res);
     const bool verdict_ok = res.isCollision() == !brute.empty() && res.numContacts() == (brute.empty() ? 0u : 1u);
     const bool pair_ok = res.numContacts() == 0 || brute.count({res.getContact(0).b1, res.getContact(0).b2}) == 1;
     ok &= verdict_ok && pair_ok;
@@ -285,9 +244,9 @@ bool checkMeshPose(const Mesh<S>& a, const fcl::Transform3<S>& tf1, const Mesh<S
   }
   {  // contact geometry: RS pairs within brute force, contacts identical to the OBB tree's
     fcl::CollisionResult<S> rs_res, obb_res, obb_plain;
-    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, request<S>(kAllContacts, true), rs_res);
-    fcl::collide(a.obb.get(), tf1, b.obb.get(), tf2, request<S>(kAllContacts, true), obb_res);
-    fcl::collide(a.obb.get(), tf1, b.obb.get(), tf2, request<S>(kAllContacts, false), obb_plain);
+    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, allContactsRequest<S>(true), rs_res);
+    fcl::collide(a.obb.get(), tf1, b.obb.get(), tf2, allContactsRequest<S>(true), obb_res);
+    fcl::collide(a.obb.get(), tf1, b.obb.get(), tf2, allContactsRequest<S>(false), obb_plain);
     const TrianglePairs rs_pairs = fcl_rs::test::contactPairs(rs_res);
     const bool subset = std::includes(brute.begin(), brute.end(), rs_pairs.begin(), rs_pairs.end());
     ok &= subset;
@@ -356,7 +315,7 @@ std::vector<fcl::Transform3<S>> grazingPoses(Rng& rng, const Mesh<S>& a, const f
   };
   const auto touching = [&](S s) {
     fcl::CollisionResult<S> r;
-    fcl::collide(a.obb.get(), tf1, b.obb.get(), at(s), request<S>(1, false), r);
+    fcl::collide(a.obb.get(), tf1, b.obb.get(), at(s), fcl::CollisionRequest<S>(), r);
     return r.isCollision();
   };
   // Centres are at most ~2 (ra + rb) apart (see nearbyPoses), so 4 (ra + rb) along any direction separates them.
@@ -503,9 +462,9 @@ void checkAgainstOBB(const std::string& what, const Mesh<S>& a, const Mesh<S>& b
                  poseString(tf2));
     ++tally.poses;
     fcl::CollisionResult<S> rs_res, obb_res, rs_first;
-    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, request<S>(kAllContacts, false), rs_res);
-    fcl::collide(a.obb.get(), tf1, b.obb.get(), tf2, request<S>(kAllContacts, false), obb_res);
-    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, request<S>(1, false), rs_first);
+    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, allContactsRequest<S>(false), rs_res);
+    fcl::collide(a.obb.get(), tf1, b.obb.get(), tf2, allContactsRequest<S>(false), obb_res);
+    fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, fcl::CollisionRequest<S>(), rs_first);
     const TrianglePairs rs = fcl_rs::test::contactPairs(rs_res), obb = fcl_rs::test::contactPairs(obb_res);
     EXPECT_EQ(rs.size(), rs_res.numContacts()) << "a triangle pair was reported twice";
     TrianglePairs truth = obb;
@@ -793,14 +752,16 @@ bool checkShapePose(const Mesh<S>& mesh, const fcl::Transform3<S>& tf_mesh, cons
   const auto* rs = mesh.rs.get();
   const auto* obb = mesh.obb.get();
   const auto* shape = sc.shape.get();
-  const auto req = request<S>(kAllContacts, false, solver);
+  const auto req = allContactsRequest<S>(false, solver);
 
+  fcl::CollisionRequest<S> first_contact = req;
+  first_contact.num_max_contacts = 1;
   fcl::CollisionResult<S> rs1, rs2, obb1, obb2, rs_first;
   fcl_rs::collide<S>(rs, tf_mesh, shape, tf_shape, req, rs1);
   fcl_rs::collide<S>(shape, tf_shape, rs, tf_mesh, req, rs2);
   fcl::collide(obb, tf_mesh, shape, tf_shape, req, obb1);
   fcl::collide(shape, tf_shape, obb, tf_mesh, req, obb2);
-  fcl_rs::collide<S>(rs, tf_mesh, shape, tf_shape, request<S>(1, false, solver), rs_first);
+  fcl_rs::collide<S>(rs, tf_mesh, shape, tf_shape, first_contact, rs_first);
   bool rs1_o1 = true, rs2_o1 = true, obb1_o1 = true, obb2_o1 = true;
   const std::set<int> all_rs1 = meshTriangles(rs1, rs, &rs1_o1), all_rs2 = meshTriangles(rs2, rs, &rs2_o1);
   const std::set<int> t_obb1 = definedTriangles(mesh, sc, meshTriangles(obb1, obb, &obb1_o1));
@@ -881,7 +842,7 @@ void checkMeshShapes(const Mesh<S>& mesh, int poses_per_shape = 25, int grazing_
         tf.translation() += s * dir;
         return tf;
       };
-      const auto req = request<S>(kAllContacts, false, solver);
+      const auto req = allContactsRequest<S>(false, solver);
       const auto touching = [&](S s) {
         return !definedTriangles(mesh, sc, bruteForceTriangles(mesh.tri, tf_mesh, sc, at(s), req)).empty();
       };
@@ -968,7 +929,7 @@ TYPED_TEST(CollideDropIn, CollisionObjectsMatchGeometryOverloadAndBruteForce)
     const auto [tf1, tf2] = nearbyPoses(rng, sphere, torus, S(0.6), S(3));
     SCOPED_TRACE("pose #" + std::to_string(i) + "\n  tf1 " + poseString(tf1) + "\n  tf2 " + poseString(tf2));
     fcl::CollisionObject<S> o1(sphere.rs, tf1), o2(torus.rs, tf2), ob(box, tf2);
-    const auto req = request<S>(kAllContacts, false);
+    const auto req = allContactsRequest<S>(false);
     fcl::CollisionResult<S> by_object, by_geometry;
     const std::size_t n = fcl_rs::collide(&o1, &o2, req, by_object);
     fcl_rs::collide<S>(sphere.rs.get(), tf1, torus.rs.get(), tf2, req, by_geometry);
@@ -1007,7 +968,8 @@ TYPED_TEST(CollideDropIn, PairsWithoutRSAreFclCollide)
     SCOPED_TRACE("pose #" + std::to_string(i) + "\n  tf1 " + poseString(tf1) + "\n  tf2 " + poseString(tf2));
     for (bool contact : {false, true})
     {
-      const auto req = request<S>(contact ? 8 : kAllContacts, contact);
+      auto req = allContactsRequest<S>(contact);
+      if (contact) req.num_max_contacts = 8;
       const auto same = [&](const fcl::CollisionGeometry<S>* g1, const fcl::CollisionGeometry<S>* g2) {
         fcl::CollisionResult<S> ours, theirs;
         const std::size_t n_ours = fcl_rs::collide<S>(g1, tf1, g2, tf2, req, ours);
@@ -1026,7 +988,7 @@ TYPED_TEST(CollideDropIn, PairsWithoutRSAreFclCollide)
     // The CollisionObject overload delegates the same way.
     fcl::CollisionObject<S> a(box1, tf1), b(torus.obb, tf2);
     fcl::CollisionResult<S> ours, theirs;
-    const auto req = request<S>(kAllContacts, false);
+    const auto req = allContactsRequest<S>(false);
     EXPECT_EQ(fcl_rs::collide(&a, &b, req, ours), fcl::collide(&a, &b, req, theirs));
     EXPECT_TRUE(fcl_rs::test::contactPairs(ours) == fcl_rs::test::contactPairs(theirs));
   }
@@ -1043,7 +1005,7 @@ TYPED_TEST(CollideDropIn, UnsupportedPairsThrow)
   // Overlapping placements: a silent "no collision" would be a false negative.
   for (bool contact : {false, true})
   {
-    const auto req = request<S>(kAllContacts, contact);
+    const auto req = allContactsRequest<S>(contact);
     fcl::CollisionResult<S> res;
     EXPECT_THROW(fcl_rs::collide<S>(sphere.rs.get(), I, sphere.obb.get(), I, req, res), std::invalid_argument);
     EXPECT_THROW(fcl_rs::collide<S>(sphere.obb.get(), I, sphere.rs.get(), I, req, res), std::invalid_argument);
@@ -1054,7 +1016,7 @@ TYPED_TEST(CollideDropIn, UnsupportedPairsThrow)
   }
   fcl::CollisionObject<S> rs_obj(sphere.rs, I), obb_obj(sphere.obb, I);
   fcl::CollisionResult<S> res;
-  EXPECT_THROW(fcl_rs::collide(&rs_obj, &obb_obj, request<S>(1, false), res), std::invalid_argument);
+  EXPECT_THROW(fcl_rs::collide(&rs_obj, &obb_obj, fcl::CollisionRequest<S>(), res), std::invalid_argument);
 }
 
 TYPED_TEST(CollideDropIn, UnbuiltRSModelThrows)
@@ -1071,7 +1033,7 @@ TYPED_TEST(CollideDropIn, UnbuiltRSModelThrows)
   for (const auto* unbuilt : unbuilt_models)
   {
     fcl::CollisionResult<S> res;
-    const auto req = request<S>(kAllContacts, false);
+    const auto req = allContactsRequest<S>(false);
     EXPECT_THROW(fcl_rs::collide<S>(unbuilt, I, sphere.rs.get(), I, req, res), std::invalid_argument);
     EXPECT_THROW(fcl_rs::collide<S>(sphere.rs.get(), I, unbuilt, I, req, res), std::invalid_argument);
     EXPECT_THROW(fcl_rs::collide<S>(unbuilt, I, &box, I, req, res), std::invalid_argument);
@@ -1095,9 +1057,9 @@ void checkStats(const TriangleMesh<typename BV::S>& m1, const TriangleMesh<typen
     SCOPED_TRACE(std::string(name) + " pose #" + std::to_string(i));
     fcl::CollisionResult<S> res, first;
     const fcl_rs::QueryStats st =
-        fcl_rs::collideWithStats(*a, poses[i].first, *b, poses[i].second, request<S>(kAllContacts, false), res);
+        fcl_rs::collideWithStats(*a, poses[i].first, *b, poses[i].second, allContactsRequest<S>(false), res);
     const fcl_rs::QueryStats st_first =
-        fcl_rs::collideWithStats(*a, poses[i].first, *b, poses[i].second, request<S>(1, false), first);
+        fcl_rs::collideWithStats(*a, poses[i].first, *b, poses[i].second, fcl::CollisionRequest<S>(), first);
     EXPECT_GT(st.num_bv_tests, 0);
     EXPECT_GE(st.num_leaf_tests, int(res.numContacts())) << "every reported pair was leaf-tested";
     if (verdicts[i]) EXPECT_GT(st.num_leaf_tests, 0);
@@ -1137,7 +1099,7 @@ TYPED_TEST(CollideStats, EveryBVTypeCountsTestsAndAgrees)
     // The RS statistics path reports the same pairs as fcl_rs::collide, i.e. the brute-force pairs.
     fcl::CollisionResult<S> res;
     const fcl_rs::QueryStats st =
-        fcl_rs::collideWithStats(*sphere.rs, tf1, *torus.rs, tf2, request<S>(kAllContacts, false), res);
+        fcl_rs::collideWithStats(*sphere.rs, tf1, *torus.rs, tf2, allContactsRequest<S>(false), res);
     EXPECT_TRUE(fcl_rs::test::contactPairs(res) == brute) << "pose #" << i;
     EXPECT_GE(st.num_leaf_tests, int(brute.size()));
   }

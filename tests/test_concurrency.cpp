@@ -23,7 +23,6 @@ namespace {
 
 constexpr int kThreads = 8;
 constexpr int kPoses = 40;
-constexpr std::size_t kAllContacts = 1000000;
 
 template <typename S>
 bool sameContacts(const fcl::CollisionResult<S>& a, const fcl::CollisionResult<S>& b)
@@ -96,8 +95,8 @@ struct Scene
     const auto& [tf1, tf2] = poses[std::size_t(i)];
     Answer<S> a;
     fcl_rs::collide(objects[std::size_t(i)].first.get(), objects[std::size_t(i)].second.get(),
-            fcl::CollisionRequest<S>(kAllContacts, true), a.mesh_mesh);
-    const fcl::CollisionRequest<S> pairs_only(kAllContacts, false);
+            test::allContactsRequest<S>(true), a.mesh_mesh);
+    const fcl::CollisionRequest<S> pairs_only = test::allContactsRequest<S>(false);
     fcl::CollisionResult<S> r1, r2;
     a.rs_stats = collideWithStats(*sphere, tf1, *torus, tf2, pairs_only, r1);
     a.obbrss_stats = collideWithStats(*sphere_obbrss, tf1, *torus_obbrss, tf2, pairs_only, r2);
@@ -106,8 +105,8 @@ struct Scene
     for (const auto& shape : shapes)
     {
       fcl::CollisionResult<S> mesh_first, shape_first;
-      fcl_rs::collide<S>(torus.get(), tf2, shape.get(), tf1, fcl::CollisionRequest<S>(kAllContacts, true), mesh_first);
-      fcl_rs::collide<S>(shape.get(), tf1, torus.get(), tf2, fcl::CollisionRequest<S>(kAllContacts, true), shape_first);
+      fcl_rs::collide<S>(torus.get(), tf2, shape.get(), tf1, test::allContactsRequest<S>(true), mesh_first);
+      fcl_rs::collide<S>(shape.get(), tf1, torus.get(), tf2, test::allContactsRequest<S>(true), shape_first);
       a.mesh_shape.push_back(mesh_first);
       a.mesh_shape.push_back(shape_first);
     }
@@ -178,8 +177,8 @@ TYPED_TEST(Concurrency, WorldFrameStatsOnSharedModelsMatchOneThread)
   const auto query = [&](int i) {
     const auto& [tf1, tf2] = poses[std::size_t(i)];
     fcl::CollisionResult<S> a, k;
-    collideWithStats(*sphere, tf1, *torus_aabb, tf2, fcl::CollisionRequest<S>(kAllContacts, false), a);
-    collideWithStats(*sphere_kdop, tf1, *torus, tf2, fcl::CollisionRequest<S>(kAllContacts, false), k);
+    collideWithStats(*sphere, tf1, *torus_aabb, tf2, test::allContactsRequest<S>(false), a);
+    collideWithStats(*sphere_kdop, tf1, *torus, tf2, test::allContactsRequest<S>(false), k);
     return Answer(test::contactPairs(a), test::contactPairs(k));
   };
   std::vector<Answer> reference;

@@ -1,21 +1,15 @@
-// fcl_rs::distance, the broadphase callbacks and continuous collision: RS trees against FCL's RSS and OBBRSS trees.
+// fcl_rs::distance: RS trees against FCL's RSS and OBBRSS trees.
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
-#include <set>
 #include <stdexcept>
 #include <string>
-#include <tuple>
 #include <type_traits>
 #include <vector>
 
-#include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
-#include <fcl/broadphase/broadphase_bruteforce.h>
-#include <fcl/broadphase/broadphase_interval_tree.h>
-#include <fcl/broadphase/broadphase_SaP.h>
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/capsule.h>
 #include <fcl/geometry/shape/cone.h>
@@ -38,20 +32,10 @@
 namespace {
 
 using fcl_rs::TriangleMesh;
-
-template <typename S>
-std::string scalarName()
-{
-  return std::is_same<S, float>::value ? "float" : "double";
-}
-
-/// Tolerance of a distance computed two ways, relative to the scene size: the RS and FCL trees run the very same
-/// triangle code on the same relative transform, so in double they agree to rounding; float is looser (stated).
-template <typename S>
-S relTol()
-{
-  return std::is_same<S, float>::value ? S(1e-4) : S(1e-9);
-}
+using fcl_rs::test::closeDistances;
+using fcl_rs::test::distanceTolerance;
+using fcl_rs::test::nearbyPoses;
+using fcl_rs::test::scalarName;
 
 /// A mesh with RS, RSS and OBBRSS trees built once, plus the ball (bounding-box centre, radius) used to place it.
 template <typename S>
@@ -94,10 +78,7 @@ std::optional<Mesh<S>> sharedMesh(const std::string& relative)
   return prepare<S>(relative, fcl_rs::loadMesh<S>(path));
 }
 
-#define REQUIRE_SHARED(var, S, relative)                                                                        \
-  const auto var##_opt = sharedMesh<S>(relative);                                                             \
-  if (!var##_opt) GTEST_SKIP() << "shared data file " << FCL_RS_SHARED_DATA_DIR << "/" << relative << " is missing"; \
-  const Mesh<S>& var = *var##_opt
+#define REQUIRE_SHARED(var, S, relative) FCL_RS_REQUIRE_SHARED(var, relative, sharedMesh<S>(relative))
 
 /// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
 template <typename S>
@@ -131,25 +112,6 @@ S distanceToMesh(const TriangleMesh<S>& m, const fcl::Vector3<S>& p)
   for (const auto& t : m.triangles)
     best = std::min(best, (p - closestOnTriangle(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]])).norm());
   return best;
-}
-
-/// Pose pair: a anywhere within base_extent, b's centre offset from a's by a uniform vector in a cube of
-/// half-size spread * (ra + rb), both rotations uniform.
-template <typename S, typename Rng>
-std::pair<fcl::Transform3<S>, fcl::Transform3<S>> nearbyPoses(Rng& rng, const Mesh<S>& a, const Mesh<S>& b, S spread,
-                                                              S base_extent)
-{
-  const fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, base_extent);
-  fcl::Transform3<S> tf2 = fcl_rs::test::randomPose<S>(rng, spread * (a.radius + b.radius));
-  const fcl::Vector3<S> offset = tf2.translation();
-  tf2.translation() = tf1 * a.center + offset - tf2.linear() * b.center;
-  return {tf1, tf2};
-}
-
-template <typename S>
-bool close(S x, S y, S scale)
-{
-  return std::abs(x - y) <= relTol<S>() * std::max({std::abs(x), std::abs(y), scale});
 }
 
 template <typename S, typename Geometry1, typename Geometry2>
@@ -228,10 +190,10 @@ void checkMeshPair(const Mesh<S>& a, const Mesh<S>& b, S spread, int n = 200)
     t.max_rel_rss = std::max<double>(t.max_rel_rss, std::abs(d - rss.min_distance) / std::max(std::abs(d), scale));
     t.max_rel_obbrss =
         std::max<double>(t.max_rel_obbrss, std::abs(d - obbrss.min_distance) / std::max(std::abs(d), scale));
-    bool ok = close(d, rss.min_distance, scale) && close(d, obbrss.min_distance, scale) && ret == d;
+    bool ok = closeDistances(d, rss.min_distance, scale) && closeDistances(d, obbrss.min_distance, scale) && ret == d;
     EXPECT_EQ(ret, d) << "returned value differs from result.min_distance";
-    EXPECT_TRUE(close(d, rss.min_distance, scale)) << "RS " << d << " vs RSS " << rss.min_distance;
-    EXPECT_TRUE(close(d, obbrss.min_distance, scale)) << "RS " << d << " vs OBBRSS " << obbrss.min_distance;
+    EXPECT_TRUE(closeDistances(d, rss.min_distance, scale)) << "RS " << d << " vs RSS " << rss.min_distance;
+    EXPECT_TRUE(closeDistances(d, obbrss.min_distance, scale)) << "RS " << d << " vs OBBRSS " << obbrss.min_distance;
     EXPECT_TRUE(rs.o1 == a.rs.get() && rs.o2 == b.rs.get());
 
     // Nearest points: world frame, on the meshes, their distance the reported one (colliding poses report 0
@@ -239,14 +201,14 @@ void checkMeshPair(const Mesh<S>& a, const Mesh<S>& b, S spread, int n = 200)
     const S off1 = distanceToMesh(a.tri, fcl::Vector3<S>(tf1.inverse(Eigen::Isometry) * rs.nearest_points[0]));
     const S off2 = distanceToMesh(b.tri, fcl::Vector3<S>(tf2.inverse(Eigen::Isometry) * rs.nearest_points[1]));
     t.max_point_off = std::max<double>(t.max_point_off, std::max(off1, off2) / scale);
-    ok &= off1 <= relTol<S>() * scale && off2 <= relTol<S>() * scale;
-    EXPECT_LE(off1, relTol<S>() * scale) << "nearest point 0 is not on mesh " << a.name;
-    EXPECT_LE(off2, relTol<S>() * scale) << "nearest point 1 is not on mesh " << b.name;
+    ok &= off1 <= distanceTolerance<S>() * scale && off2 <= distanceTolerance<S>() * scale;
+    EXPECT_LE(off1, distanceTolerance<S>() * scale) << "nearest point 0 is not on mesh " << a.name;
+    EXPECT_LE(off2, distanceTolerance<S>() * scale) << "nearest point 1 is not on mesh " << b.name;
     if (d > 0)
     {
       const S gap = (rs.nearest_points[0] - rs.nearest_points[1]).norm();
-      ok &= close(gap, d, scale);
-      EXPECT_TRUE(close(gap, d, scale)) << "nearest points are " << gap << " apart, distance " << d;
+      ok &= closeDistances(gap, d, scale);
+      EXPECT_TRUE(closeDistances(gap, d, scale)) << "nearest points are " << gap << " apart, distance " << d;
     }
 
     // Lower bounds, with (R, T) as the traversal uses them: fcl_rs::distance (the 18 slab directions) and the
@@ -355,7 +317,7 @@ TYPED_TEST(DistanceMeshMesh, ErrorBoundsAreHonoured)
     fcl::DistanceResult<S> rel_res, abs_res;
     fcl_rs::distance<S>(torus.rs.get(), tf1, ellipsoid.rs.get(), tf2, rel_req, rel_res);
     fcl_rs::distance<S>(torus.rs.get(), tf1, ellipsoid.rs.get(), tf2, abs_req, abs_res);
-    const S slack = relTol<S>() * scale;
+    const S slack = distanceTolerance<S>() * scale;
     EXPECT_GE(rel_res.min_distance, exact - slack);
     EXPECT_LE(rel_res.min_distance, S(1.3) * exact + slack);
     EXPECT_GE(abs_res.min_distance, exact - slack);
@@ -429,7 +391,7 @@ TYPED_TEST(DistanceMeshShape, BothOrdersMatchRSS)
                                       : fclDistance<S>(shape.get(), tf2, torus.rss.get(), tf1, request);
           EXPECT_EQ(rss.o1, torus.rss.get());
           max_rel = std::max<double>(max_rel, std::abs(rs.min_distance - rss.min_distance) / scale);
-          EXPECT_TRUE(close(rs.min_distance, rss.min_distance, scale))
+          EXPECT_TRUE(closeDistances(rs.min_distance, rss.min_distance, scale))
               << "RS " << rs.min_distance << " vs RSS " << rss.min_distance;
           if (rs.min_distance <= 0) continue;
           // Nearest points, world frame: point 0 on the mesh, point 1 on the shape (checked for the sphere), as far
@@ -471,7 +433,7 @@ TYPED_TEST(DistanceMeshShape, SignedDistanceIsTheDeepestContact)
   const S radius = S(0.3);
   const fcl::Sphere<S> sphere(radius);
   const fcl::Box<S> box(S(0.6), S(0.3), S(0.2));
-  const S tol = relTol<S>() * 2;
+  const S tol = distanceTolerance<S>() * 2;
   for (const auto solver : {fcl::GST_LIBCCD, fcl::GST_INDEP})
   {
     const std::string what = "distance/signed/solver" + std::to_string(int(solver)) + "/" + scalarName<S>();
@@ -504,7 +466,7 @@ TYPED_TEST(DistanceMeshShape, SignedDistanceIsTheDeepestContact)
         S deepest = 0;
         for (std::size_t c = 0; c < contacts.numContacts(); ++c)
           deepest = std::max(deepest, std::abs(contacts.getContact(c).penetration_depth));
-        EXPECT_TRUE(close(rs_box.min_distance, -deepest, S(1))) << "RS " << rs_box.min_distance << ", deepest " << deepest;
+        EXPECT_TRUE(closeDistances(rs_box.min_distance, -deepest, S(1))) << "RS " << rs_box.min_distance << ", deepest " << deepest;
         EXPECT_EQ(rs_box.nearest_points[0], rs_box.nearest_points[1]);
         if (fcl_signed)
         {
@@ -515,7 +477,7 @@ TYPED_TEST(DistanceMeshShape, SignedDistanceIsTheDeepestContact)
       else
       {
         EXPECT_GT(rs_box.min_distance, 0);
-        EXPECT_TRUE(close(rs_box.min_distance, rss_box.min_distance, S(2)))
+        EXPECT_TRUE(closeDistances(rs_box.min_distance, rss_box.min_distance, S(2)))
             << "RS " << rs_box.min_distance << " vs RSS " << rss_box.min_distance;
       }
 
@@ -582,250 +544,6 @@ TYPED_TEST(DistanceDispatch, OtherPairsPassThroughAndUnsupportedPairsThrow)
   fcl_rs::distance<S>(torus.rs.get(), id, torus.rs.get(), away, request, by_geometry);
   EXPECT_EQ(by_object.min_distance, by_geometry.min_distance);
   EXPECT_GT(by_object.min_distance, 0);
-}
-
-/// A scene of ~10 objects, once with RS meshes and once with OBBRSS meshes of the same triangles (each object owns
-/// its geometry, so contacts name their objects).
-template <typename S>
-struct Scene
-{
-  std::vector<std::unique_ptr<fcl::CollisionObject<S>>> rs, obbrss;
-  std::vector<const fcl::CollisionGeometry<S>*> rs_geometry, obbrss_geometry;
-};
-
-template <typename S, typename Rng>
-Scene<S> makeScene(Rng& rng, const std::vector<TriangleMesh<S>>& meshes, S extent)
-{
-  Scene<S> scene;
-  auto add = [&](std::shared_ptr<fcl::CollisionGeometry<S>> g_rs, std::shared_ptr<fcl::CollisionGeometry<S>> g_obbrss) {
-    const fcl::Transform3<S> tf = fcl_rs::test::randomPose<S>(rng, extent);
-    scene.rs.emplace_back(new fcl::CollisionObject<S>(g_rs, tf));
-    scene.obbrss.emplace_back(new fcl::CollisionObject<S>(g_obbrss, tf));
-    scene.rs_geometry.push_back(g_rs.get());
-    scene.obbrss_geometry.push_back(g_obbrss.get());
-  };
-  for (const auto& m : meshes) add(fcl_rs::buildModel<fcl_rs::RS<S>>(m), fcl_rs::buildModel<fcl::OBBRSS<S>>(m));
-  // No sphere: FCL's own mesh-sphere distance is undefined where the two intersect (see DistanceMeshShape).
-  const auto box = std::make_shared<fcl::Box<S>>(S(0.5), S(0.3), S(0.2));
-  const auto capsule = std::make_shared<fcl::Capsule<S>>(S(0.2), S(0.6));
-  add(box, box);
-  add(capsule, capsule);
-  return scene;
-}
-
-/// The contacts of a broadphase result as (object, object, triangle, triangle), ordered by object index.
-template <typename S>
-std::set<std::tuple<int, int, int, int>> sceneContacts(const fcl::CollisionResult<S>& r,
-                                                      const std::vector<const fcl::CollisionGeometry<S>*>& geometry)
-{
-  std::set<std::tuple<int, int, int, int>> out;
-  const auto index = [&](const fcl::CollisionGeometry<S>* g) {
-    return int(std::find(geometry.begin(), geometry.end(), g) - geometry.begin());
-  };
-  for (std::size_t i = 0; i < r.numContacts(); ++i)
-  {
-    const auto& c = r.getContact(i);
-    int i1 = index(c.o1), i2 = index(c.o2), b1 = c.b1, b2 = c.b2;
-    if (i1 > i2)
-    {
-      std::swap(i1, i2);
-      std::swap(b1, b2);
-    }
-    out.emplace(i1, i2, b1, b2);
-  }
-  return out;
-}
-
-template <typename S>
-void checkManager(const std::string& what, const std::function<std::unique_ptr<fcl::BroadPhaseCollisionManager<S>>()>& make)
-{
-  auto rng = fcl_rs::test::seededRng("distance/broadphase/" + what + "/" + scalarName<S>());
-  const std::vector<TriangleMesh<S>> meshes = {
-      fcl_rs::makeTorus<S>(1, S(0.25)), fcl_rs::makeEllipsoid<S>(1, S(0.5), S(0.25)),
-      fcl_rs::makeBox<S>(1, S(0.4), S(0.2)), fcl_rs::makeSphere<S>(S(0.5)), fcl_rs::makeTorus<S>(S(0.6), S(0.2)),
-      fcl_rs::makeEllipsoid<S>(S(0.3), S(0.6), S(0.9)), fcl_rs::makeBox<S>(S(0.3), S(0.3), S(0.8)),
-      fcl_rs::makeSphere<S>(S(0.8))};
-  int colliding_scenes = 0, free_scenes = 0;
-  std::size_t pairs = 0;
-  double max_rel = 0;
-  for (int scene_index = 0; scene_index < 10; ++scene_index)
-  {
-    SCOPED_TRACE(what + " scene #" + std::to_string(scene_index));
-    // Alternately packed (many contacts) and spread out (positive minimum distance).
-    const Scene<S> scene = makeScene<S>(rng, meshes, scene_index % 2 ? S(8) : S(2));
-    auto rs_manager = make(), obbrss_manager = make();
-    for (const auto& o : scene.rs) rs_manager->registerObject(o.get());
-    for (const auto& o : scene.obbrss) obbrss_manager->registerObject(o.get());
-    rs_manager->setup();
-    obbrss_manager->setup();
-
-    // Every contact: the same (object, object, triangle, triangle) sets.
-    fcl_rs::DefaultCollisionData<S> rs_all;
-    fcl::DefaultCollisionData<S> obbrss_all;
-    rs_all.request.num_max_contacts = obbrss_all.request.num_max_contacts = 100000;
-    rs_manager->collide(&rs_all, fcl_rs::DefaultCollisionFunction<S>);
-    obbrss_manager->collide(&obbrss_all, fcl::DefaultCollisionFunction<S>);
-    const auto rs_contacts = sceneContacts(rs_all.result, scene.rs_geometry);
-    EXPECT_EQ(rs_contacts, sceneContacts(obbrss_all.result, scene.obbrss_geometry));
-    std::set<std::pair<int, int>> object_pairs;
-    for (const auto& c : rs_contacts) object_pairs.emplace(std::get<0>(c), std::get<1>(c));
-    pairs += object_pairs.size();
-
-    // Default request (first contact only): the same verdict.
-    fcl::DefaultCollisionData<S> rs_first, obbrss_first;
-    rs_manager->collide(&rs_first, fcl_rs::DefaultCollisionFunction<S>);
-    obbrss_manager->collide(&obbrss_first, fcl::DefaultCollisionFunction<S>);
-    EXPECT_EQ(rs_first.result.isCollision(), obbrss_first.result.isCollision());
-    EXPECT_EQ(rs_first.result.isCollision(), !rs_contacts.empty());
-
-    fcl_rs::DefaultDistanceData<S> rs_dist;
-    fcl::DefaultDistanceData<S> obbrss_dist;
-    rs_manager->distance(&rs_dist, fcl_rs::DefaultDistanceFunction<S>);
-    obbrss_manager->distance(&obbrss_dist, fcl::DefaultDistanceFunction<S>);
-    const S d = rs_dist.result.min_distance, d_ref = obbrss_dist.result.min_distance;
-    max_rel = std::max<double>(max_rel, std::abs(d - d_ref) / std::max<S>(std::abs(d_ref), 1));
-    EXPECT_TRUE(close(d, d_ref, S(1))) << "minimum distance: RS " << d << ", OBBRSS " << d_ref;
-    // Not the converse: at grazing poses FCL's triangle distance can round to 0 where its intersection test
-    // finds no contact (seen in float, for RS and OBBRSS alike).
-    if (!rs_contacts.empty()) EXPECT_LE(d, 0);
-    (rs_contacts.empty() ? free_scenes : colliding_scenes)++;
-  }
-  std::cout << "[distance] broadphase " << what << " (" << scalarName<S>() << "): 10 scenes, " << colliding_scenes
-            << " colliding, " << pairs << " colliding object pairs, max rel min-distance diff " << max_rel << "\n";
-  EXPECT_GE(colliding_scenes, 2);
-  EXPECT_GE(free_scenes, 2);
-}
-
-template <typename S>
-class Broadphase : public ::testing::Test {};
-TYPED_TEST_SUITE(Broadphase, fcl_rs::test::Scalars);
-
-TYPED_TEST(Broadphase, DynamicAABBTreeMatchesOBBRSS)
-{
-  using S = TypeParam;
-  checkManager<S>("DynamicAABBTree", [] {
-    return std::unique_ptr<fcl::BroadPhaseCollisionManager<S>>(new fcl::DynamicAABBTreeCollisionManager<S>);
-  });
-}
-
-TYPED_TEST(Broadphase, NaiveMatchesOBBRSS)
-{
-  using S = TypeParam;
-  checkManager<S>("Naive", [] {
-    return std::unique_ptr<fcl::BroadPhaseCollisionManager<S>>(new fcl::NaiveCollisionManager<S>);
-  });
-}
-
-TYPED_TEST(Broadphase, SaPMatchesOBBRSS)
-{
-  using S = TypeParam;
-  checkManager<S>("SaP", [] {
-    return std::unique_ptr<fcl::BroadPhaseCollisionManager<S>>(new fcl::SaPCollisionManager<S>);
-  });
-}
-
-TYPED_TEST(Broadphase, IntervalTreeMatchesOBBRSS)
-{
-  using S = TypeParam;
-  checkManager<S>("IntervalTree", [] {
-    return std::unique_ptr<fcl::BroadPhaseCollisionManager<S>>(new fcl::IntervalTreeCollisionManager<S>);
-  });
-}
-
-/// fcl_rs::continuousCollide in FCL's naive mode: with RS meshes the same time of contact as FCL's own on OBBRSS
-/// meshes (the same samples, and fcl_rs::collide's verdicts are FCL's), mesh-mesh and shape-mesh. Double only:
-/// FCL 0.7's InterpMotion and ScrewMotion declare integrate(double), so for float they are abstract and FCL's
-/// continuous collision from two transforms does not compile.
-TEST(ContinuousCollision, NaiveModeMatchesOBBRSS)
-{
-  using S = double;
-  const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.25)));
-  const auto ellipsoid = prepare<S>("ellipsoid", fcl_rs::makeEllipsoid<S>(1, S(0.5), S(0.25)));
-  const fcl::Box<S> box(S(0.5), S(0.3), S(0.2));
-  for (const auto motion : {fcl::CCDM_TRANS, fcl::CCDM_LINEAR, fcl::CCDM_SCREW})
-  {
-    const std::string what = "ccd/naive/motion" + std::to_string(int(motion)) + "/" + scalarName<S>();
-    auto rng = fcl_rs::test::seededRng(what);
-    const fcl::ContinuousCollisionRequest<S> request(/*num_max_iterations=*/20, /*toc_err=*/S(0.01), motion);
-    int hits = 0, misses = 0;
-    for (int i = 0; i < 30; ++i)
-    {
-      SCOPED_TRACE(what + " motion #" + std::to_string(i));
-      // The torus turns in place; the other object sweeps from one side to the other, through or past it.
-      const fcl::Transform3<S> tf1_beg = fcl_rs::test::randomPose<S>(rng, S(0.1));
-      const fcl::Transform3<S> tf1_end = fcl_rs::test::randomPose<S>(rng, S(0.1));
-      fcl::Transform3<S> tf2_beg = fcl_rs::test::randomPose<S>(rng, S(1.2));
-      fcl::Transform3<S> tf2_end = fcl_rs::test::randomPose<S>(rng, S(1.2));
-      const fcl::Vector3<S> side = fcl_rs::test::randomRotation<S>(rng).col(0) * S(2.5);
-      const fcl::Vector3<S> lateral = fcl_rs::test::randomPose<S>(rng, S(2)).translation();
-      tf2_beg.translation() += lateral + side;
-      tf2_end.translation() += lateral - side;
-
-      fcl::ContinuousCollisionResult<S> rs, ref;
-      fcl_rs::continuousCollide<S>(torus.rs.get(), tf1_beg, tf1_end, ellipsoid.rs.get(), tf2_beg, tf2_end, request, rs);
-      fcl::continuousCollide<S>(torus.obbrss.get(), tf1_beg, tf1_end, ellipsoid.obbrss.get(), tf2_beg, tf2_end, request,
-                                ref);
-      EXPECT_EQ(rs.is_collide, ref.is_collide);
-      EXPECT_EQ(rs.time_of_contact, ref.time_of_contact);
-      if (rs.is_collide && ref.is_collide)
-      {
-        EXPECT_TRUE(rs.contact_tf1.isApprox(ref.contact_tf1));
-        EXPECT_TRUE(rs.contact_tf2.isApprox(ref.contact_tf2));
-      }
-      (rs.is_collide ? hits : misses)++;
-
-      fcl::ContinuousCollisionResult<S> rs_box, ref_box;
-      fcl_rs::continuousCollide<S>(&box, tf2_beg, tf2_end, torus.rs.get(), tf1_beg, tf1_end, request, rs_box);
-      fcl::continuousCollide<S>(&box, tf2_beg, tf2_end, torus.obbrss.get(), tf1_beg, tf1_end, request, ref_box);
-      EXPECT_EQ(rs_box.is_collide, ref_box.is_collide);
-      EXPECT_EQ(rs_box.time_of_contact, ref_box.time_of_contact);
-    }
-    std::cout << "[ccd] " << what << ": 30 motions, " << hits << " hit, " << misses << " missed\n";
-    EXPECT_GE(hits, 5);
-    EXPECT_GE(misses, 2);
-  }
-}
-
-/// The modes FCL cannot run on RS (plain fcl::continuousCollide reports "no collision" there) throw, naming
-/// the reason; pairs without RS, and the CollisionObject overload, behave as FCL's.
-TEST(ContinuousCollision, ModesFCLCannotRunOnRSThrow)
-{
-  using S = double;
-  const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.25)));
-  const fcl::Transform3<S> id = fcl::Transform3<S>::Identity();
-  fcl::Transform3<S> through = id;
-  through.translation() << 3, 0, 0;
-  const fcl::Box<S> box(S(0.5), S(0.5), S(0.5));
-  for (const auto solver : {fcl::CCDC_CONSERVATIVE_ADVANCEMENT, fcl::CCDC_POLYNOMIAL_SOLVER, fcl::CCDC_RAY_SHOOTING})
-  {
-    fcl::ContinuousCollisionRequest<S> request;
-    request.ccd_solver_type = solver;
-    fcl::ContinuousCollisionResult<S> result;
-    try
-    {
-      fcl_rs::continuousCollide<S>(torus.rs.get(), id, through, torus.rs.get(), through, id, request, result);
-      ADD_FAILURE() << "solver " << int(solver) << " did not throw";
-    }
-    catch (const std::invalid_argument& e)
-    {
-      EXPECT_NE(std::string(e.what()).find("use CCDC_NAIVE"), std::string::npos) << e.what();
-    }
-    EXPECT_THROW(fcl_rs::continuousCollide<S>(&box, id, through, torus.rs.get(), id, id, request, result),
-                 std::invalid_argument);
-  }
-  fcl::ContinuousCollisionRequest<S> request;
-  fcl::ContinuousCollisionResult<S> rs, ref;
-  fcl_rs::continuousCollide<S>(&box, id, through, torus.obbrss.get(), through, id, request, rs);
-  fcl::continuousCollide<S>(&box, id, through, torus.obbrss.get(), through, id, request, ref);
-  EXPECT_EQ(rs.is_collide, ref.is_collide);
-  EXPECT_EQ(rs.time_of_contact, ref.time_of_contact);
-  const fcl::CollisionObject<S> o1(torus.rs, id), o2(torus.rs, through);
-  fcl::ContinuousCollisionResult<S> by_object, by_geometry;
-  fcl_rs::continuousCollide<S>(&o1, through, &o2, id, request, by_object);
-  fcl_rs::continuousCollide<S>(torus.rs.get(), id, through, torus.rs.get(), through, id, request, by_geometry);
-  EXPECT_TRUE(by_object.is_collide);
-  EXPECT_EQ(by_object.time_of_contact, by_geometry.time_of_contact);
-  EXPECT_LT(by_object.time_of_contact, 1);
 }
 
 }  // namespace

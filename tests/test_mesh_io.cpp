@@ -17,18 +17,7 @@
 namespace fcl_rs {
 namespace {
 
-std::string messageOf(const std::function<void()>& f)
-{
-  try
-  {
-    f();
-  }
-  catch (const std::exception& e)
-  {
-    return e.what();
-  }
-  return "";
-}
+using test::messageOf;
 
 TEST(MeshIo, LoadsAssimpTestModels)
 {
@@ -45,7 +34,7 @@ TEST(MeshIo, LoadsAssimpTestModels)
 TEST(MeshIo, LoadsSharedModels)
 {
   const std::string rob = test::sharedData("models/fcl_rob.obj");
-  if (rob.empty()) GTEST_SKIP() << "../shared/data is not beside the repository";
+  if (rob.empty()) FCL_RS_MISSING_SHARED_DATA("models/fcl_rob.obj");
   const auto mesh = loadMesh<double>(rob);
   EXPECT_EQ(mesh.triangles.size(), 216u);  // as SOURCES.md counts with assimp
   const auto link = loadMesh<double>(test::sharedData("robots/panda/meshes/collision/link1.stl"));

@@ -19,12 +19,7 @@ namespace {
 
 using fcl_rs::RS;
 using fcl_rs::TriangleMesh;
-
-template <typename S>
-std::string scalarName()
-{
-  return std::is_same<S, float>::value ? "float" : "double";
-}
+using fcl_rs::test::scalarName;
 
 /// How the tree follows the moved vertices: FCL's update API (the previous frame is kept, so nodes bound both
 /// frames' vertices) or its replace API (only the new frame), each refitting bottom-up (leaf fits + merges),

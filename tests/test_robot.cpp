@@ -17,18 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string messageOf(const std::function<void()>& f)
-{
-  try
-  {
-    f();
-  }
-  catch (const std::exception& e)
-  {
-    return e.what();
-  }
-  return "";
-}
+using test::messageOf;
 
 /// Expects f to throw a message holding every one of `parts`.
 void expectError(const std::function<void()>& f, const std::vector<std::string>& parts)
@@ -325,7 +314,7 @@ TYPED_TEST(Kinematic, RandomConfigurationsRespectLimits)
 TEST(RobotKinematics, PandaMimicFingerAndKnownPose)
 {
   const RobotModel* panda = sharedRobot("panda");
-  if (!panda) GTEST_SKIP() << "../shared/data/robots/panda is absent";
+  if (!panda) FCL_RS_MISSING_SHARED_DATA("robots/panda");
   const Kinematics<double> kin(*panda);
   ASSERT_EQ(kin.numVariables(), 8);  // seven arm joints and finger_joint1; finger_joint2 mimics it
   // At q = 0 the Panda stands straight up: flange 0.333 + 0.316 + 0.384 - 0.107 high, 0.088 forward.
@@ -343,7 +332,7 @@ TEST(RobotKinematics, PandaMimicFingerAndKnownPose)
 TEST(Srdf, ReadsDisabledPairs)
 {
   const RobotModel* panda = sharedRobot("panda");
-  if (!panda) GTEST_SKIP() << "../shared/data/robots/panda is absent";
+  if (!panda) FCL_RS_MISSING_SHARED_DATA("robots/panda");
   const auto disabled = sharedSrdf(*panda);
   EXPECT_EQ(disabled.size(), 35u);  // as SOURCES.md counts
   EXPECT_EQ(disabled[0].link1, "panda_hand");
@@ -452,14 +441,14 @@ TYPED_TEST(SelfCheck, TestRobotAllBVTypesAgree)
 TYPED_TEST(SelfCheck, PandaAllBVTypesAgree)
 {
   const RobotModel* panda = sharedRobot("panda");
-  if (!panda) GTEST_SKIP() << "../shared/data/robots/panda is absent";
+  if (!panda) FCL_RS_MISSING_SHARED_DATA("robots/panda");
   checkAllBVTypesAgree<TypeParam>(*panda, sharedSrdf(*panda), 400, 10);
 }
 
 TYPED_TEST(SelfCheck, Ur5AllBVTypesAgree)
 {
   const RobotModel* ur5 = sharedRobot("ur5");
-  if (!ur5) GTEST_SKIP() << "../shared/data/robots/ur5 is absent";
+  if (!ur5) FCL_RS_MISSING_SHARED_DATA("robots/ur5");
   checkAllBVTypesAgree<TypeParam>(*ur5, sharedSrdf(*ur5), 400, 5);
 }
 

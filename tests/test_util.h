@@ -1,4 +1,5 @@
-// Shared test helpers: seeded and logged randomness, uniform rotations, meshes, brute-force oracle.
+// Shared test helpers: seeded and logged randomness, uniform and nearby poses, meshes, brute-force oracle,
+// requests, messages, and the data files tests need.
 #ifndef FCL_RS_TESTS_TEST_UTIL_H
 #define FCL_RS_TESTS_TEST_UTIL_H
 
@@ -6,14 +7,20 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
+#include <iomanip>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <set>
+#include <sstream>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include <fcl/math/geometry.h>
+#include <fcl/narrowphase/collision_request.h>
 #include <fcl/narrowphase/collision_result.h>
 #include <fcl/narrowphase/detail/traversal/collision/intersect.h>
 #include <gtest/gtest.h>
@@ -27,6 +34,66 @@ namespace fcl_rs {
 namespace test {
 
 using Scalars = ::testing::Types<float, double>;
+
+/// "float" or "double", for seeds, traces and logs.
+template <typename S>
+std::string scalarName()
+{
+  return std::is_same<S, float>::value ? "float" : "double";
+}
+
+/// A transform with every digit (max_digits10), so a failing pose can be replayed.
+template <typename S>
+std::string poseString(const fcl::Transform3<S>& tf)
+{
+  std::ostringstream o;
+  o << std::setprecision(std::numeric_limits<S>::max_digits10) << "R=[";
+  for (int i = 0; i < 3; ++i)
+    o << tf.linear()(i, 0) << ' ' << tf.linear()(i, 1) << ' ' << tf.linear()(i, 2) << (i < 2 ? "; " : "]");
+  o << " t=[" << tf.translation().x() << ' ' << tf.translation().y() << ' ' << tf.translation().z() << ']';
+  return o.str();
+}
+
+/// Tolerance of a distance computed two ways, relative to the scene size: the RS and FCL trees run the very same
+/// triangle code on the same relative transform, so in double they agree to rounding; float is looser (stated).
+template <typename S>
+S distanceTolerance()
+{
+  return std::is_same<S, float>::value ? S(1e-4) : S(1e-9);
+}
+
+/// x and y agree within distanceTolerance of the largest of |x|, |y| and scale.
+template <typename S>
+bool closeDistances(S x, S y, S scale)
+{
+  return std::abs(x - y) <= distanceTolerance<S>() * std::max({std::abs(x), std::abs(y), scale});
+}
+
+/// Exhaustive: large enough that no query stops early.
+constexpr std::size_t kAllContacts = 1000000;
+
+/// A request for every contact (with positions, normals and depths when enable_contact).
+template <typename S>
+fcl::CollisionRequest<S> allContactsRequest(bool enable_contact, fcl::GJKSolverType solver = fcl::GST_LIBCCD)
+{
+  fcl::CollisionRequest<S> request(kAllContacts, enable_contact);
+  request.gjk_solver_type = solver;
+  return request;
+}
+
+/// The message of the exception f throws, or "" when it throws none.
+inline std::string messageOf(const std::function<void()>& f)
+{
+  try
+  {
+    f();
+  }
+  catch (const std::exception& e)
+  {
+    return e.what();
+  }
+  return "";
+}
 
 /// A seeded generator; the seed (FCL_RS_TEST_SEED, or a fixed default) is logged so any failure replays.
 inline std::mt19937_64 seededRng(const std::string& what)
@@ -57,6 +124,25 @@ fcl::Transform3<S> randomPose(Rng& rng, S extent)
   tf.linear() = randomRotation<S>(rng);
   tf.translation() = fcl::Vector3<S>(S(u(rng)), S(u(rng)), S(u(rng))) * extent;
   return tf;
+}
+
+/// b's pose near a placed at tf_a: b's centre offset from a's by a uniform vector in a cube of half-size
+/// spread * (ra + rb), its rotation uniform. A and B have a centre (model coordinates) and a radius about it.
+template <typename S, typename Rng, typename A, typename B>
+fcl::Transform3<S> nearbyPose(Rng& rng, const A& a, const fcl::Transform3<S>& tf_a, const B& b, S spread)
+{
+  fcl::Transform3<S> tf_b = randomPose<S>(rng, spread * (a.radius + b.radius));
+  const fcl::Vector3<S> offset = tf_b.translation();
+  tf_b.translation() = tf_a * a.center + offset - tf_b.linear() * b.center;
+  return tf_b;
+}
+
+/// Pose pair: a anywhere within base_extent (uniform rotation), b near it (nearbyPose).
+template <typename S, typename Rng, typename A, typename B>
+std::pair<fcl::Transform3<S>, fcl::Transform3<S>> nearbyPoses(Rng& rng, const A& a, const B& b, S spread, S base_extent)
+{
+  const fcl::Transform3<S> tf_a = randomPose<S>(rng, base_extent);
+  return {tf_a, nearbyPose(rng, a, tf_a, b, spread)};
 }
 
 /// Radius of the ball about the origin containing every vertex.
@@ -167,7 +253,7 @@ TrianglePairs contactPairs(const fcl::CollisionResult<S>& result)
   return pairs;
 }
 
-/// Path under ../shared/data, or empty when that folder is absent.
+/// Path under ../shared/data, or empty when that folder is absent (see FCL_RS_MISSING_SHARED_DATA).
 inline std::string sharedData(const std::string& relative)
 {
   const std::filesystem::path p = std::filesystem::path(FCL_RS_SHARED_DATA_DIR) / relative;
@@ -181,7 +267,32 @@ inline std::string assimpModel(const std::string& relative)
   return std::filesystem::exists(p) ? p.string() : std::string();
 }
 
+/// Whether a missing ../shared/data fails the tests that need it: under CI (CI=true, as CI services set it) a
+/// run without the data would pass having tested less; elsewhere those tests skip.
+inline bool sharedDataRequired()
+{
+  const char* ci = std::getenv("CI");
+  return ci && std::string(ci) != "" && std::string(ci) != "0" && std::string(ci) != "false";
+}
+
 }  // namespace test
 }  // namespace fcl_rs
+
+/// Ends the current test because ../shared/data/<relative> is missing: a failure under CI, a skip elsewhere.
+#define FCL_RS_MISSING_SHARED_DATA(relative)                                                                      \
+  do                                                                                                              \
+  {                                                                                                               \
+    const std::string fcl_rs_missing = std::string(FCL_RS_SHARED_DATA_DIR) + "/" + (relative);                    \
+    if (::fcl_rs::test::sharedDataRequired())                                                                     \
+      FAIL() << "shared data " << fcl_rs_missing << " is missing; CI=true requires it";                           \
+    GTEST_SKIP() << "shared data " << fcl_rs_missing << " is missing";                                            \
+  } while (false)
+
+/// `const auto& var = *optional`, where optional (a std::optional loaded from ../shared/data/<relative>) is empty
+/// when the file is missing: then the test ends as FCL_RS_MISSING_SHARED_DATA says.
+#define FCL_RS_REQUIRE_SHARED(var, relative, optional)                                                            \
+  const auto var##_opt = (optional);                                                                              \
+  if (!var##_opt) FCL_RS_MISSING_SHARED_DATA(relative);                                                           \
+  const auto& var = *var##_opt
 
 #endif
