@@ -8,6 +8,7 @@
 
 #include "fcl_rs/collide.h"
 #include "fcl_rs/distance.h"
+#include "fcl_rs/fcl_float.h"
 
 namespace fcl_rs {
 

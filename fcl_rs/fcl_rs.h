@@ -19,6 +19,7 @@
 #include "fcl_rs/collide.h"
 #include "fcl_rs/collide_with_stats.h"
 #include "fcl_rs/distance.h"
+#include "fcl_rs/fcl_float.h"
 #include "fcl_rs/broadphase.h"
 #include "fcl_rs/continuous_collision.h"
 #include "fcl_rs/version.h"

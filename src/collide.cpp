@@ -10,6 +10,7 @@
 #include <fcl/narrowphase/detail/gjk_solver_indep.h>
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 
+#include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/collision_traversal.h"
 
 namespace fcl_rs {

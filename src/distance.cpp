@@ -13,6 +13,7 @@
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 
 #include "fcl_rs/collide.h"
+#include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/distance_traversal.h"
 
 namespace fcl_rs {

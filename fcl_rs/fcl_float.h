@@ -1,0 +1,29 @@
+// fcl::collide and fcl::distance for float, compiled once in the fcl_rs library (src/fcl_float_collide.cpp,
+// src/fcl_float_distance.cpp). libfcl.so ships them for double only; for float, every translation unit calling
+// them (directly, through fcl_rs's fallbacks or through FCL's broadphase callbacks) would otherwise instantiate
+// FCL's whole narrow phase again: every BV and shape pair for both GJK solvers, minutes of compile time per
+// file under the sanitizers.
+#ifndef FCL_RS_FCL_FLOAT_H
+#define FCL_RS_FCL_FLOAT_H
+
+#include <cstddef>
+
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/distance.h>
+
+namespace fcl {
+
+extern template std::size_t collide(const CollisionObject<float>* o1, const CollisionObject<float>* o2,
+                                    const CollisionRequest<float>& request, CollisionResult<float>& result);
+extern template std::size_t collide(const CollisionGeometry<float>* o1, const Transform3<float>& tf1,
+                                    const CollisionGeometry<float>* o2, const Transform3<float>& tf2,
+                                    const CollisionRequest<float>& request, CollisionResult<float>& result);
+extern template float distance(const CollisionObject<float>* o1, const CollisionObject<float>* o2,
+                               const DistanceRequest<float>& request, DistanceResult<float>& result);
+extern template float distance(const CollisionGeometry<float>* o1, const Transform3<float>& tf1,
+                               const CollisionGeometry<float>* o2, const Transform3<float>& tf2,
+                               const DistanceRequest<float>& request, DistanceResult<float>& result);
+
+}  // namespace fcl
+
+#endif
