@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Installs the Debian packages fcl_rs needs (only those missing), then configures and builds (Release, -j2).
+# Installs the Debian packages fcl_rs needs (only those missing), then configures and builds (Release, -j2, Ninja).
 # Usage: scripts/setup.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-$root/build}"
 
-packages=(cmake g++ make libfcl-dev libccd-dev libeigen3-dev libassimp-dev assimp-testmodels
+packages=(cmake g++ make ninja-build libfcl-dev libccd-dev libeigen3-dev libassimp-dev assimp-testmodels
           libgtest-dev libbenchmark-dev libqhull-dev liburdfdom-dev libtinyxml2-dev nlohmann-json3-dev
           gnuplot-nox clang libclang-rt-14-dev pkg-config)
 missing=()
@@ -20,5 +20,9 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+# Ninja: the test and tool sources compile while the library is still compiling (Makefiles wait for the
+# library's link first), so -j2 keeps both cores busy. An existing build directory keeps its generator.
+generator=()
+[ -f "$build/CMakeCache.txt" ] || generator=(-G Ninja)
+cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2

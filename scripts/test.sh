@@ -19,11 +19,14 @@ for arg in "$@"; do
   esac
 done
 
-bash "$root/scripts/setup.sh" "$root/build"
-(cd "$root/build" && ctest --output-on-failure -j2)
-[ "$all" = 1 ] || exit 0
+# Each stage's start and the minutes since the run began, so a CI log shows where the time went.
+stage() { echo "== fcl_rs: $* ($(date +%T), $((SECONDS / 60)) min $((SECONDS % 60)) s in)"; }
 
-stage() { echo "== fcl_rs: $* ($(date +%T))"; }
+stage "setup and Release build (build)"
+bash "$root/scripts/setup.sh" "$root/build"
+stage "Release: every CTest test (build)"
+(cd "$root/build" && ctest --output-on-failure -j2)
+[ "$all" = 1 ] || { stage "quick stages passed"; exit 0; }
 
 # Test executables (test_*) of a configured build directory; only these are built there.
 test_targets() { cmake --build "$1" --target help | sed -nE 's/^(\.\.\. )?(test_[A-Za-z0-9_]+)(:.*)?$/\2/p' | sort -u; }
@@ -39,11 +42,13 @@ export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:check_initialization_
 export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
+# Ninja for a new build directory (why: scripts/setup.sh); an existing one keeps the generator it was made with.
+generator() { [ -f "$1/CMakeCache.txt" ] || echo "-GNinja"; }
 sanitized=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1")
 
 stage "AddressSanitizer + UndefinedBehaviorSanitizer: every test (build-asan)"
 asan="$root/build-asan"
-cmake -S "$root" -B "$asan" -DCMAKE_CXX_COMPILER=clang++ "${sanitized[@]}" -DFCL_RS_FUZZ=ON \
+cmake -S "$root" -B "$asan" $(generator "$asan") -DCMAKE_CXX_COMPILER=clang++ "${sanitized[@]}" -DFCL_RS_FUZZ=ON \
   -DFCL_RS_SANITIZE=fuzzer-no-link,address,undefined > /dev/null
 mapfile -t tests < <(test_targets "$asan")
 cmake --build "$asan" -j2 --target "${tests[@]}" fuzz_mesh_load fuzz_rs
@@ -52,7 +57,7 @@ cmake --build "$asan" -j2 --target "${tests[@]}" fuzz_mesh_load fuzz_rs
 
 stage "ThreadSanitizer: test_concurrency (build-tsan)"
 tsan="$root/build-tsan"
-cmake -S "$root" -B "$tsan" "${sanitized[@]}" -DFCL_RS_SANITIZE=thread > /dev/null
+cmake -S "$root" -B "$tsan" $(generator "$tsan") "${sanitized[@]}" -DFCL_RS_SANITIZE=thread > /dev/null
 cmake --build "$tsan" -j2 --target test_concurrency
 (cd "$tsan" && ctest --output-on-failure -j2 -L unit -R '^Concurrency\.')
 
