@@ -40,6 +40,7 @@ namespace {
 
 using fcl_rs::TriangleMesh;
 using fcl_rs::test::allContactsRequest;
+using fcl_rs::test::fclRelative;
 using fcl_rs::test::nearbyPoses;
 using fcl_rs::test::poseString;
 using fcl_rs::test::scalarName;
@@ -140,21 +141,6 @@ std::optional<Mesh<S>> sharedMesh(const std::string& relative, S scale = 1)
   const Mesh<S>& var = *var##_opt
 
 #define REQUIRE_SHARED(var, S, relative, scale) FCL_RS_REQUIRE_SHARED(var, relative, sharedMesh<S>(relative, scale))
-
-/// (R, T) exactly as FCL's oriented nodes compute them (fcl::relativeTransform), as one transform. Handing the
-/// brute force (identity, this) makes the oracle run each triangle test on the very same R and T the tree uses,
-/// so a difference can only come from pruning, not from the rounding of a differently computed tf1^-1 tf2.
-template <typename S>
-fcl::Transform3<S> fclRelative(const fcl::Transform3<S>& tf1, const fcl::Transform3<S>& tf2)
-{
-  fcl::Matrix3<S> R;
-  fcl::Vector3<S> T;
-  fcl::relativeTransform(tf1, tf2, R, T);
-  fcl::Transform3<S> rel = fcl::Transform3<S>::Identity();
-  rel.linear() = R;
-  rel.translation() = T;
-  return rel;
-}
 
 template <typename S>
 TrianglePairs bruteForce(const Mesh<S>& a, const fcl::Transform3<S>& tf1, const Mesh<S>& b,

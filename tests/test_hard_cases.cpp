@@ -56,6 +56,7 @@ namespace {
 
 using fcl_rs::TriangleMesh;
 using fcl_rs::test::allContactsRequest;
+using fcl_rs::test::fclRelative;
 using fcl_rs::test::nearbyPose;
 using fcl_rs::test::poseString;
 using fcl_rs::test::scalarName;
@@ -316,20 +317,6 @@ Built<S> build(const std::string& name, TriangleMesh<S> mesh)
   ++g_hard_cases;
   return b;
 }
-
-/// (R, T) exactly as FCL's oriented nodes compute them, so the oracle's triangle tests see the tree's numbers.
-template <typename S>
-fcl::Transform3<S> fclRelative(const fcl::Transform3<S>& tf1, const fcl::Transform3<S>& tf2)
-{
-  fcl::Matrix3<S> R;
-  fcl::Vector3<S> T;
-  fcl::relativeTransform(tf1, tf2, R, T);
-  fcl::Transform3<S> rel = fcl::Transform3<S>::Identity();
-  rel.linear() = R;
-  rel.translation() = T;
-  return rel;
-}
-
 
 template <typename S>
 TrianglePairs treePairs(const Built<S>& a, const fcl::Transform3<S>& tf1, const Built<S>& b,

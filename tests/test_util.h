@@ -145,6 +145,21 @@ std::pair<fcl::Transform3<S>, fcl::Transform3<S>> nearbyPoses(Rng& rng, const A&
   return {tf_a, nearbyPose(rng, a, tf_a, b, spread)};
 }
 
+/// (R, T) exactly as FCL's oriented nodes compute them (fcl::relativeTransform), as one transform. Handing the
+/// brute force (identity, this) makes the oracle run each triangle test on the very same R and T the tree uses,
+/// so a difference can only come from pruning, not from the rounding of a differently computed tf1^-1 tf2.
+template <typename S>
+fcl::Transform3<S> fclRelative(const fcl::Transform3<S>& tf1, const fcl::Transform3<S>& tf2)
+{
+  fcl::Matrix3<S> R;
+  fcl::Vector3<S> T;
+  fcl::relativeTransform(tf1, tf2, R, T);
+  fcl::Transform3<S> rel = fcl::Transform3<S>::Identity();
+  rel.linear() = R;
+  rel.translation() = T;
+  return rel;
+}
+
 /// Radius of the ball about the origin containing every vertex.
 template <typename S>
 S meshRadius(const TriangleMesh<S>& m)
