@@ -2,6 +2,9 @@
 // OBB, RSS and OBBRSS trees after deformation, as ratios measured in one run, with their quality beside them.
 
 #include "bench_common.h"
+#ifdef FCL_RS_WITH_COAL
+#include "coal_peer.h"
+#endif
 
 #include <fcl/math/bv/OBB.h>
 #include <fcl/math/bv/OBBRSS.h>
@@ -183,11 +186,12 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
 
   struct Row
   {
-    const char* bv;
+    std::string bv;
     std::function<double(std::size_t)> query;
-    std::function<void(std::size_t, double&, double&)> count;
+    std::function<void(std::size_t, double&, double&)> count;  // null: the library exposes no counts
     std::vector<double> d;
     double seconds = 0, bv_tests = 0, leaf_tests = 0, max_err = 0;
+    int disagreements = 0;  // poses colliding (distance <= 0) for this row and not for RSS, or the reverse
   };
   std::vector<Row> rows;
   rows.push_back({"RS",
@@ -217,6 +221,17 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
                     countTests<fcl::detail::MeshDistanceTraversalNodeOBBRSS<S>>(*ob1, tf1[i], *ob2, tf2[i], bt, lt);
                   },
                   {}});
+#ifdef FCL_RS_WITH_COAL
+  // Coal's RSS and OBBRSS trees, same meshes and poses (relative transform in both).
+  std::vector<std::unique_ptr<fcl_rs::bench::CoalMeshPair>> coal;
+  for (const auto bv : {fcl_rs::bench::CoalBV::kRSS, fcl_rs::bench::CoalBV::kOBBRSS})
+  {
+    coal.push_back(std::make_unique<fcl_rs::bench::CoalMeshPair>(bv, a.mesh.vertices, a.mesh.triangles,
+                                                                  b.mesh.vertices, b.mesh.triangles));
+    const fcl_rs::bench::CoalMeshPair& trees = *coal.back();
+    rows.push_back({fcl_rs::bench::coalName(bv), [&](std::size_t i) { return trees.distance(tf1[i], tf2[i]); }, {}, {}});
+  }
+#endif
 
   const std::size_t n = tf1.size();
   for (Row& row : rows)
@@ -231,26 +246,42 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
                       kMinTimedSeconds, kMinPasses) /
                   double(n);
     if (!std::isfinite(sink)) std::printf("(non-finite distance)\n");
-    for (std::size_t i = 0; i < n; ++i) row.count(i, row.bv_tests, row.leaf_tests);
+    if (row.count)
+      for (std::size_t i = 0; i < n; ++i) row.count(i, row.bv_tests, row.leaf_tests);
+    else
+      row.bv_tests = row.leaf_tests = std::numeric_limits<double>::quiet_NaN();
   }
   int colliding = 0;
   const double scale = ba.radius + bb.radius;
+  const Row& rss = rows[1];
   for (std::size_t i = 0; i < n; ++i)
   {
-    colliding += rows[1].d[i] <= 0;
-    for (Row& row : rows) row.max_err = std::max(row.max_err, std::abs(row.d[i] - rows[1].d[i]) / scale);
+    colliding += rss.d[i] <= 0;
+    // Coal reports a penetration depth (below 0) where FCL reports 0: both mean "colliding".
+    for (Row& row : rows)
+    {
+      row.max_err = std::max(row.max_err, std::abs(std::max(row.d[i], 0.0) - rss.d[i]) / scale);
+      row.disagreements += (row.d[i] <= 0) != (rss.d[i] <= 0);
+    }
   }
+  // The fastest peer: FCL's RSS and OBBRSS, and Coal's rows when present.
+  double fastest_peer = std::numeric_limits<double>::infinity();
+  for (std::size_t r = 1; r < rows.size(); ++r) fastest_peer = std::min(fastest_peer, rows[r].seconds);
 
   std::printf("\n%s: %d + %d triangles, %zu poses, %d colliding\n", what.c_str(), int(a.mesh.triangles.size()),
               int(b.mesh.triangles.size()), n, colliding);
-  std::printf("  %-7s %12s %9s %11s %11s %12s\n", "BV", "us/query", "RS/this", "BV tests", "tri tests",
-              "max err/r");
+  std::printf("  %-11s %12s %9s %10s %11s %11s %12s %9s\n", "BV", "us/query", "RS/this", "this/best", "BV tests",
+              "tri tests", "max err/r", "disagree");
   for (const Row& row : rows)
   {
-    std::printf("  %-7s %12.2f %9.2f %11.1f %11.1f %12.2e\n", row.bv, 1e6 * row.seconds,
-                rows[0].seconds / row.seconds, row.bv_tests / double(n), row.leaf_tests / double(n), row.max_err);
+    const auto count = [&](double c) { return std::isnan(c) ? std::string("-") : fixed(c / double(n), 1); };
+    std::printf("  %-11s %12.2f %9.2f %10.2f %11s %11s %12.2e %9d\n", row.bv.c_str(), 1e6 * row.seconds,
+                rows[0].seconds / row.seconds, row.seconds / fastest_peer, count(row.bv_tests).c_str(),
+                count(row.leaf_tests).c_str(), row.max_err, row.disagreements);
     csv.add("distance", what, row.bv, "us_per_query", 1e6 * row.seconds);
     csv.add("distance", what, row.bv, "rs_time_ratio", rows[0].seconds / row.seconds);
+    csv.add("distance", what, row.bv, "time_over_fastest_peer", row.seconds / fastest_peer);
+    csv.add("distance", what, row.bv, "verdict_disagreements_vs_rss", row.disagreements);
     csv.add("distance", what, row.bv, "bv_tests_per_query", row.bv_tests / double(n));
     csv.add("distance", what, row.bv, "tri_tests_per_query", row.leaf_tests / double(n));
     csv.add("distance", what, row.bv, "max_abs_diff_vs_rss_over_r", row.max_err);
