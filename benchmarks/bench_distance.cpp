@@ -2,6 +2,8 @@
 // OBB, RSS and OBBRSS trees after deformation, as ratios measured in one run, with their quality beside them.
 
 #include "bench_common.h"
+#include "common/command_line.h"
+#include "common/csv_writer.h"
 #ifdef FCL_RS_WITH_COAL
 #include "coal_peer.h"
 #endif
@@ -22,6 +24,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -41,83 +44,59 @@ struct Options
   std::string csv;
 };
 
-void printHelp()
+const char* kDescription =
+    "Distance: per mesh pair, N random poses (uniform rotations, mesh 2's bounding-box centre at a uniform\n"
+    "direction from mesh 1's and a distance uniform in [0.5, 1.5] x (r1 + r2), r = bounding ball radius, so\n"
+    "that a minority of poses collide). RS runs through fcl_rs::distance, RSS and OBBRSS through\n"
+    "fcl::distance (their local-frame oriented traversal); the request is the default one (no nearest\n"
+    "points, rel_err = abs_err = 0). Built with FCL_RS_WITH_COAL, Coal's RSS and OBBRSS run through\n"
+    "coal::distance (nearest points, rel_err = abs_err = 0; a penetration depth counts as 0). Time: the\n"
+    "fastest of repeated passes over all poses, in us per query; RS/this, and this/best = this time over the\n"
+    "fastest of FCL's and Coal's. Quality: the largest |d - d_RSS| over the poses relative to r1 + r2, poses\n"
+    "whose verdict (distance <= 0) differs from RSS's, and the BV and triangle tests per query (traversal\n"
+    "nodes with statistics on the same poses; Coal exposes none).\n"
+    "\n"
+    "Refit: per mesh, N successive smooth deformations (a twist plus a travelling wave of 5% of the mesh\n"
+    "size); each is applied with FCL's update API (beginUpdateModel / updateVertex / endUpdateModel, so\n"
+    "nodes bound the previous and the current frame) bottom-up (leaf fits + merges) and top-down (a fit\n"
+    "per node), and, for reference, as a full rebuild (endUpdateModel(false, ...)). Time: ms per refit\n"
+    "(mean over the N frames, fastest of repeated runs); ratios RS / OBB and RS / OBBRSS. Quality: nodes\n"
+    "that fail to contain a vertex (either frame) of a triangle below them, beyond 1e-9 of the mesh size\n"
+    "(FCL's OBB merge is not conservative), summed over the frames.\n"
+    "\n"
+    "Meshes: generated (torus x ellipsoid, sphere x box) and, when present, FCL's env x rob and bunny x\n"
+    "hand (low-resolution versions) from " FCL_RS_SHARED_DATA_DIR "/models.\n";
+
+void addOptions(CLI::App& app, Options& opt)
 {
-  std::printf(
-      "Usage: fcl_rs_bench_distance [--queries N] [--refits N] [--seed N] [--csv FILE]\n"
-      "\n"
-      "Distance: per mesh pair, N random poses (default 200; uniform rotations, mesh 2's bounding-box centre\n"
-      "at a uniform direction from mesh 1's and a distance uniform in [0.5, 1.5] x (r1 + r2), r = bounding\n"
-      "ball radius, so that a minority of poses collide). RS runs through fcl_rs::distance, RSS and OBBRSS\n"
-      "through fcl::distance (their local-frame oriented traversal); the request is the default one (no\n"
-      "nearest points, rel_err = abs_err = 0). Time: the fastest of repeated passes over all poses, in us per\n"
-      "query; ratios RS / RSS and RS / OBBRSS. Quality: the largest |d - d_RSS| over the poses relative to\n"
-      "r1 + r2, and the BV and triangle tests per query (traversal nodes with statistics on the same poses).\n"
-      "\n"
-      "Refit: per mesh, N successive smooth deformations (a twist plus a travelling wave of 5%% of the mesh\n"
-      "size); each is applied with FCL's update API (beginUpdateModel / updateVertex / endUpdateModel, so\n"
-      "nodes bound the previous and the current frame) bottom-up (leaf fits + merges) and top-down (a fit\n"
-      "per node), and, for reference, as a full rebuild (endUpdateModel(false, ...)). Time: ms per refit\n"
-      "(mean over the N frames, fastest of repeated runs); ratios RS / OBB and RS / OBBRSS. Quality: nodes\n"
-      "that fail to contain a vertex (either frame) of a triangle below them, beyond 1e-9 of the mesh size\n"
-      "(FCL's OBB merge is not conservative), summed over the frames.\n"
-      "\n"
-      "Meshes: generated (torus x ellipsoid, sphere x box) and, when present, FCL's env x rob and bunny x\n"
-      "hand (low-resolution versions) from " FCL_RS_SHARED_DATA_DIR "/models.\n"
-      "  --csv FILE  also write every number to FILE (columns table,case,bv,quantity,value)\n");
+  app.add_option("--queries", opt.queries, "random poses per mesh pair")->check(CLI::Range(1, 100000))->capture_default_str();
+  app.add_option("--refits", opt.refits, "deformed frames per mesh")->check(CLI::Range(1, 10000))->capture_default_str();
+  app.add_option("--seed", opt.seed, "random seed")->capture_default_str();
+  app.add_option("--csv", opt.csv, "also write every number to FILE (columns table,case,bv,quantity,value)");
 }
 
-Options parseOptions(int argc, char** argv)
-{
-  Options opt;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string arg = argv[i];
-    auto value = [&]() -> const char* {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "--help" || arg == "-h")
-    {
-      printHelp();
-      std::exit(0);
-    }
-    else if (arg == "--queries")
-      opt.queries = int(std::max(1ULL, std::min(number(arg, value()), 100000ULL)));
-    else if (arg == "--refits")
-      opt.refits = int(std::max(1ULL, std::min(number(arg, value()), 10000ULL)));
-    else if (arg == "--seed")
-      opt.seed = number(arg, value());
-    else if (arg == "--csv")
-      opt.csv = value();
-    else
-      throw std::invalid_argument("unknown option " + arg + " (see --help)");
-  }
-  return opt;
-}
-
-/// Long-format CSV: one number per row.
+/// Long-format CSV: one number per row (nothing written without a file name).
 class Csv
 {
 public:
   explicit Csv(const std::string& path)
   {
-    if (path.empty()) return;
-    out_.open(path);
-    if (!out_) throw std::runtime_error("cannot write " + path);
-    out_ << "table,case,bv,quantity,value\n";
+    if (!path.empty()) out_.emplace(path, std::vector<std::string>{"table", "case", "bv", "quantity", "value"});
   }
   void add(const std::string& table, const std::string& what, const std::string& bv, const std::string& quantity,
            double value)
   {
-    if (out_.is_open()) out_ << table << ',' << what << ',' << bv << ',' << quantity << ',' << value << '\n';
+    if (out_) out_->row({table, what, bv, quantity, value});
+  }
+  void close()
+  {
+    if (out_) out_->close();
   }
 
 private:
-  std::ofstream out_;
+  std::optional<fcl_rs::tools::CsvWriter> out_;
 };
 
-/// Seconds per call of run(): the fastest of passes repeated until kMinTimedSeconds have elapsed.
 struct NamedMesh
 {
   std::string name;
@@ -436,15 +415,19 @@ void benchRefit(const NamedMesh& nm, const Options& opt, Csv& csv)
 
 int main(int argc, char** argv)
 {
+  Options opt;
+  CLI::App app(kDescription, "fcl_rs_bench_distance");
+  addOptions(app, opt);
+  if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
   try
   {
-    const Options opt = parseOptions(argc, argv);
     Csv csv(opt.csv);
     const auto pairs = meshPairs();
     std::printf("Distance per query (double); RS/this = RS time / this BV's time (below 1: RS is faster)\n");
     for (const auto& [a, b] : pairs) benchDistance(a, b, opt, csv);
     std::printf("\nRefit after deformation (double), FCL's update API\n");
     for (const auto& [a, b] : pairs) benchRefit(a, opt, csv);
+    csv.close();
     if (!opt.csv.empty()) std::printf("\nCSV written to %s\n", opt.csv.c_str());
   }
   catch (const std::exception& e)

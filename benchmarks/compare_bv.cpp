@@ -5,6 +5,8 @@
 // (resolved by a brute-force triangle-pair test). Then RS/OBBRSS ratios per pair and their median.
 
 #include "bench_common.h"
+#include "common/command_line.h"
+#include "common/csv_writer.h"
 #ifdef FCL_RS_WITH_COAL
 #include "coal_peer.h"
 #endif
@@ -55,79 +57,52 @@ struct Options
   std::vector<std::string> files;
 };
 
-void printHelp()
+std::string description()
 {
-  std::printf(
-      "Usage: fcl_rs_compare [options] [mesh files...]\n"
-      "\n"
-      "Compares the RS bounding volume with FCL's OBB, RSS, OBBRSS, kIOS, AABB, KDOP16, KDOP18 and\n"
-      "KDOP24 on mesh-mesh collision queries (double precision, same random poses for every type).\n"
-      "RS runs with each overlap test: RS (the default, boxed, and the reference), RS-two (two-sided) and\n"
-      "RS-one (one-sided).\n"
-      "\n"
-      "Without files: generated pairs (sphere x torus, ellipsoid x ellipsoid, diamond x box), assimp\n"
-      "test models in " FCL_RS_ASSIMP_MODELS_DIR " (STL/Spider_binary.stl x itself,\n"
-      "OFF/Wuson.off x PLY/Wuson.ply, Collada/duck.dae x Collada/teapots.DAE) and FCL's env x rob\n"
-      "from " FCL_RS_SHARED_DATA_DIR "/models; missing files are skipped.\n"
-      "With files (any format assimp reads): each file is collided against itself (two copies in\n"
-      "independent poses); with --pairs, files 1+2, 3+4, ... are collided instead.\n"
-      "\n"
-      "Options:\n"
-      "  --queries N  random poses per mesh pair (default %d)\n"
-      "  --seed N     random seed (default 1)\n"
-      "  --csv FILE   also write every table row to FILE as CSV\n"
-      "  --pairs      collide consecutive files instead of each file with itself\n"
-      "  --verify     brute-force every pose (all triangle pairs) and check RS's verdicts against it\n"
-      "  --help       this text\n"
-      "\n"
-      "Poses: both meshes get uniform random rotations (Shoemake); mesh 1's bounding-box centre is at the\n"
-      "origin and mesh 2's is placed uniformly in a ball whose radius is calibrated per pair (with RS) so\n"
-      "that about %.0f%% of the poses collide.\n"
-      "Requests: 'all' = exhaustive (num_max_contacts unbounded), 'first' = num_max_contacts 1;\n"
-      "enable_contact is false in both.\n"
-      "Paths: 'local' = trees built once in the mesh frames, traversal with the relative transform;\n"
-      "'fcl-rebuild' = FCL's own path for AABB/KDOP: copy both models, move them to the world frame and\n"
-      "rebuild per query (fcl::collide does this), timed on the first %zu poses; 'world-tree' = the same\n"
-      "world-frame trees prebuilt outside the timer, traversal with identity transforms (traversal alone).\n"
-      "Times: the fastest of repeated passes over the whole pose set (steady_clock).\n",
-      kDefaultQueries, 100 * kTargetCollidingShare, kRebuildPoses);
+  return "Compares the RS bounding volume with FCL's OBB, RSS, OBBRSS, kIOS, AABB, KDOP16, KDOP18 and\n"
+         "KDOP24 on mesh-mesh collision queries (double precision, same random poses for every type).\n"
+         "RS runs with each overlap test: RS (the default, boxed, and the reference), RS-two (two-sided) and\n"
+         "RS-one (one-sided). Built with FCL_RS_WITH_COAL, Coal's OBB, OBBRSS and kIOS are measured too.\n"
+         "\n"
+         "Without files: generated pairs (sphere x torus, ellipsoid x ellipsoid, diamond x box), assimp\n"
+         "test models in " FCL_RS_ASSIMP_MODELS_DIR " (STL/Spider_binary.stl x itself,\n"
+         "OFF/Wuson.off x PLY/Wuson.ply, Collada/duck.dae x Collada/teapots.DAE) and FCL's env x rob\n"
+         "from " FCL_RS_SHARED_DATA_DIR "/models; missing files are skipped.\n"
+         "With files (any format assimp reads): each file is collided against itself (two copies in\n"
+         "independent poses); with --pairs, files 1+2, 3+4, ... are collided instead.\n";
 }
 
-void parseOptions(int argc, char** argv, Options& opt)
+std::string footer()
 {
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string arg = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "--help" || arg == "-h")
-    {
-      printHelp();
-      std::exit(0);
-    }
-    else if (arg == "--queries")
-    {
-      const unsigned long long n = number(arg, value());
-      if (n < 1 || n > 1000000) throw std::invalid_argument("--queries must be between 1 and 1000000");
-      opt.queries = int(n);
-    }
-    else if (arg == "--seed")
-      opt.seed = number(arg, value());
-    else if (arg == "--csv")
-      opt.csv = value();
-    else if (arg == "--pairs")
-      opt.consecutive_pairs = true;
-    else if (arg == "--verify")
-      opt.verify = true;
-    else if (!arg.empty() && arg[0] == '-')
-      throw std::invalid_argument("unknown option " + arg + " (see --help)");
-    else
-      opt.files.push_back(arg);
-  }
-  if (opt.consecutive_pairs && opt.files.size() % 2 != 0)
-    throw std::invalid_argument("--pairs needs an even number of files");
+  return "Poses: both meshes get uniform random rotations (Shoemake); mesh 1's bounding-box centre is at the\n"
+         "origin and mesh 2's is placed uniformly in a ball whose radius is calibrated per pair (with RS) so\n"
+         "that about " + fixed(100 * kTargetCollidingShare, 0) + "% of the poses collide.\n"
+         "Requests: 'all' = exhaustive (num_max_contacts unbounded), 'first' = num_max_contacts 1;\n"
+         "enable_contact is false in both (Coal: NO_REQUEST, security_margin = break_distance = 0).\n"
+         "Paths: 'local' = trees built once in the mesh frames, traversal with the relative transform;\n"
+         "'coal' = Coal's trees built once, coal::collide (relative transform);\n"
+         "'fcl-rebuild' = FCL's own path for AABB/KDOP: copy both models, move them to the world frame and\n"
+         "rebuild per query (fcl::collide does this), timed on the first " + std::to_string(kRebuildPoses) +
+         " poses; 'world-tree' = the same\n"
+         "world-frame trees prebuilt outside the timer, traversal with identity transforms (traversal alone).\n"
+         "Times: the fastest of repeated passes over the whole pose set (steady_clock).\n";
+}
+
+void addOptions(CLI::App& app, Options& opt)
+{
+  app.footer(footer());
+  app.add_option("files", opt.files, "mesh files (any format assimp reads)")->check(CLI::ExistingFile);
+  app.add_option("--queries", opt.queries, "random poses per mesh pair")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  app.add_option("--seed", opt.seed, "random seed")->capture_default_str();
+  app.add_option("--csv", opt.csv, "also write every table row to FILE as CSV");
+  app.add_flag("--pairs", opt.consecutive_pairs, "collide consecutive files instead of each file with itself");
+  app.add_flag("--verify", opt.verify, "brute-force every pose (all triangle pairs) and check RS's verdicts against it");
+  app.callback([&opt] {
+    if (opt.consecutive_pairs && opt.files.size() % 2 != 0)
+      throw CLI::ValidationError("--pairs", "needs an even number of files");
+  });
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -549,16 +524,15 @@ void printRow(const Row& r)
 
 void writeCsv(const std::string& path, const std::vector<Row>& rows)
 {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path);
-  out << "pair,tris_a,tris_b,bv,path,build_ms,us_per_query_all,us_per_query_first,bv_tests_per_query,"
-         "tri_tests_per_query,contacts_per_query,colliding_share,disagreements_vs_rs,library,"
-         "us_all_over_fastest_peer,us_first_over_fastest_peer\n";
+  fcl_rs::tools::CsvWriter csv(path, {"pair", "tris_a", "tris_b", "bv", "path", "build_ms", "us_per_query_all",
+                                      "us_per_query_first", "bv_tests_per_query", "tri_tests_per_query",
+                                      "contacts_per_query", "colliding_share", "disagreements_vs_rs", "library",
+                                      "us_all_over_fastest_peer", "us_first_over_fastest_peer"});
   for (const Row& r : rows)
-    out << '"' << r.pair << "\"," << r.tris_a << ',' << r.tris_b << ',' << r.bv << ',' << r.path << ','
-        << r.build_ms << ',' << r.us_all << ',' << r.us_first << ',' << r.bv_tests << ',' << r.leaf_tests << ','
-        << r.contacts << ',' << r.colliding << ',' << std::max(r.disagreements, 0) << ',' << libraryOf(r) << ','
-        << r.vs_fastest_all << ',' << r.vs_fastest_first << '\n';
+    csv.row({r.pair, r.tris_a, r.tris_b, r.bv, r.path, r.build_ms, r.us_all, r.us_first, r.bv_tests, r.leaf_tests,
+             r.contacts, r.colliding, std::max(r.disagreements, 0), libraryOf(r), r.vs_fastest_all,
+             r.vs_fastest_first});
+  csv.close();
 }
 
 struct Ratios
@@ -714,16 +688,18 @@ std::vector<Row> runPair(const MeshPair& pair, std::size_t index, const Options&
 int main(int argc, char** argv)
 {
   Options opt;
+  CLI::App app(description(), "fcl_rs_compare");
+  addOptions(app, opt);
+  if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
   std::vector<MeshPair> pairs;
   try
   {
-    parseOptions(argc, argv, opt);
     pairs = opt.files.empty() ? defaultPairs() : filePairs(opt);
   }
   catch (const std::exception& e)
   {
     std::fprintf(stderr, "fcl_rs_compare: %s\n", e.what());
-    return 2;
+    return 1;
   }
 
   std::printf("fcl_rs_compare: RS vs FCL %s bounding volumes, double precision\n", FCL_VERSION);
@@ -774,7 +750,15 @@ int main(int argc, char** argv)
   std::printf("\ntotal run time %.1f s\n", std::chrono::duration<double>(Clock::now() - start).count());
   if (!opt.csv.empty())
   {
-    writeCsv(opt.csv, rows);
+    try
+    {
+      writeCsv(opt.csv, rows);
+    }
+    catch (const std::exception& e)
+    {
+      std::fprintf(stderr, "fcl_rs_compare: %s\n", e.what());
+      return 1;
+    }
     std::printf("CSV written to %s\n", opt.csv.c_str());
   }
   return 0;
