@@ -36,6 +36,10 @@ using namespace fcl_rs::bench;
 constexpr double kMinTimedSeconds = 0.2;  // per timed measurement; short passes are repeated
 constexpr int kMinPasses = 3;
 
+/// What every timed pass is measured with: the thread's CPU time unless --wall-clock (a busy machine
+/// disturbs CPU time far less than wall time).
+TimeSource g_clock = TimeSource::kThreadCpu;
+
 struct Options
 {
   int queries = 200;
@@ -51,7 +55,7 @@ const char* kDescription =
     "fcl::distance (their local-frame oriented traversal); the request is the default one (no nearest\n"
     "points, rel_err = abs_err = 0). Built with FCL_RS_WITH_COAL, Coal's RSS and OBBRSS run through\n"
     "coal::distance (nearest points, rel_err = abs_err = 0; a penetration depth counts as 0). Time: the\n"
-    "fastest of repeated passes over all poses, in us per query; RS/this, and this/best = this time over the\n"
+    "fastest of repeated passes over all poses (thread CPU time; --wall-clock: steady_clock), in us per query; RS/this, and this/best = this time over the\n"
     "fastest of FCL's and Coal's. Quality: the largest |d - d_RSS| over the poses relative to r1 + r2, poses\n"
     "whose verdict (distance <= 0) differs from RSS's, and the BV and triangle tests per query (traversal\n"
     "nodes with statistics on the same poses; Coal exposes none).\n"
@@ -72,6 +76,8 @@ void addOptions(CLI::App& app, Options& opt)
   app.add_option("--queries", opt.queries, "random poses per mesh pair")->check(CLI::Range(1, 100000))->capture_default_str();
   app.add_option("--refits", opt.refits, "deformed frames per mesh")->check(CLI::Range(1, 10000))->capture_default_str();
   app.add_option("--seed", opt.seed, "random seed")->capture_default_str();
+  app.add_flag("--wall-clock", [](std::int64_t) { g_clock = TimeSource::kWall; },
+               "time with steady_clock instead of the thread's CPU time");
   app.add_option("--csv", opt.csv, "also write every number to FILE (columns table,case,bv,quantity,value)");
 }
 
@@ -222,7 +228,7 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
                       [&] {
                         for (std::size_t i = 0; i < n; ++i) sink += row.query(i);
                       },
-                      kMinTimedSeconds, kMinPasses) /
+                      kMinTimedSeconds, kMinPasses, g_clock) /
                   double(n);
     if (!std::isfinite(sink)) std::printf("(non-finite distance)\n");
     if (row.count)
@@ -383,8 +389,8 @@ void refitRow(const char* bv_name, const NamedMesh& nm, const Options& opt, Csv&
     };
     bad[k] = run(true);
     // Timed: the frames only (the initial build is timed apart by subtracting a build-only run).
-    const double with_build = bestSeconds([&] { run(false); }, kMinTimedSeconds, kMinPasses);
-    const double build_only = bestSeconds([&] { model = fcl_rs::buildModel<BV>(nm.mesh); }, kMinTimedSeconds, kMinPasses);
+    const double with_build = bestSeconds([&] { run(false); }, kMinTimedSeconds, kMinPasses, g_clock);
+    const double build_only = bestSeconds([&] { model = fcl_rs::buildModel<BV>(nm.mesh); }, kMinTimedSeconds, kMinPasses, g_clock);
     ms[k] = 1e3 * std::max(0.0, with_build - build_only) / opt.refits;
   }
   std::printf("  %-7s", bv_name);
@@ -423,6 +429,13 @@ int main(int argc, char** argv)
   {
     Csv csv(opt.csv);
     const auto pairs = meshPairs();
+    std::printf("fcl_rs_bench_distance: machine: nproc %d, CPU %s; compiler %s; timing with %s\n", onlineCpus(),
+                cpuModel().c_str(), __VERSION__,
+                g_clock == TimeSource::kThreadCpu ? "the thread's CPU time" : "steady_clock (wall time)");
+#ifdef FCL_RS_WITH_COAL
+    std::printf("peer: Coal %s (RSS, OBBRSS through coal::distance; no BV-test counts)\n",
+                fcl_rs::bench::coalVersion().c_str());
+#endif
     std::printf("Distance per query (double); RS/this = RS time / this BV's time (below 1: RS is faster)\n");
     for (const auto& [a, b] : pairs) benchDistance(a, b, opt, csv);
     std::printf("\nRefit after deformation (double), FCL's update API\n");
