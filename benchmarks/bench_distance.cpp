@@ -2,6 +2,11 @@
 // OBB, RSS and OBBRSS trees after deformation, as ratios measured in one run, with their quality beside them.
 
 #include "bench_common.h"
+#include "common/command_line.h"
+#include "common/csv_writer.h"
+#ifdef FCL_RS_WITH_COAL
+#include "coal_peer.h"
+#endif
 
 #include <fcl/math/bv/OBB.h>
 #include <fcl/math/bv/OBBRSS.h>
@@ -19,6 +24,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -30,6 +36,10 @@ using namespace fcl_rs::bench;
 constexpr double kMinTimedSeconds = 0.2;  // per timed measurement; short passes are repeated
 constexpr int kMinPasses = 3;
 
+/// What every timed pass is measured with: the thread's CPU time unless --wall-clock (a busy machine
+/// disturbs CPU time far less than wall time).
+TimeSource g_clock = TimeSource::kThreadCpu;
+
 struct Options
 {
   int queries = 200;
@@ -38,83 +48,61 @@ struct Options
   std::string csv;
 };
 
-void printHelp()
+const char* kDescription =
+    "Distance: per mesh pair, N random poses (uniform rotations, mesh 2's bounding-box centre at a uniform\n"
+    "direction from mesh 1's and a distance uniform in [0.5, 1.5] x (r1 + r2), r = bounding ball radius, so\n"
+    "that a minority of poses collide). RS runs through fcl_rs::distance, RSS and OBBRSS through\n"
+    "fcl::distance (their local-frame oriented traversal); the request is the default one (no nearest\n"
+    "points, rel_err = abs_err = 0). Built with FCL_RS_WITH_COAL, Coal's RSS and OBBRSS run through\n"
+    "coal::distance (nearest points, rel_err = abs_err = 0; a penetration depth counts as 0). Time: the\n"
+    "fastest of repeated passes over all poses (thread CPU time; --wall-clock: steady_clock), in us per query; RS/this, and this/best = this time over the\n"
+    "fastest of FCL's and Coal's. Quality: the largest |d - d_RSS| over the poses relative to r1 + r2, poses\n"
+    "whose verdict (distance <= 0) differs from RSS's, and the BV and triangle tests per query (traversal\n"
+    "nodes with statistics on the same poses; Coal exposes none).\n"
+    "\n"
+    "Refit: per mesh, N successive smooth deformations (a twist plus a travelling wave of 5% of the mesh\n"
+    "size); each is applied with FCL's update API (beginUpdateModel / updateVertex / endUpdateModel, so\n"
+    "nodes bound the previous and the current frame) bottom-up (leaf fits + merges) and top-down (a fit\n"
+    "per node), and, for reference, as a full rebuild (endUpdateModel(false, ...)). Time: ms per refit\n"
+    "(mean over the N frames, fastest of repeated runs); ratios RS / OBB and RS / OBBRSS. Quality: nodes\n"
+    "that fail to contain a vertex (either frame) of a triangle below them, beyond 1e-9 of the mesh size\n"
+    "(FCL's OBB merge is not conservative), summed over the frames.\n"
+    "\n"
+    "Meshes: generated (torus x ellipsoid, sphere x box) and, when present, FCL's env x rob and bunny x\n"
+    "hand (low-resolution versions) from " FCL_RS_SHARED_DATA_DIR "/models.\n";
+
+void addOptions(CLI::App& app, Options& opt)
 {
-  std::printf(
-      "Usage: fcl_rs_bench_distance [--queries N] [--refits N] [--seed N] [--csv FILE]\n"
-      "\n"
-      "Distance: per mesh pair, N random poses (default 200; uniform rotations, mesh 2's bounding-box centre\n"
-      "at a uniform direction from mesh 1's and a distance uniform in [0.5, 1.5] x (r1 + r2), r = bounding\n"
-      "ball radius, so that a minority of poses collide). RS runs through fcl_rs::distance, RSS and OBBRSS\n"
-      "through fcl::distance (their local-frame oriented traversal); the request is the default one (no\n"
-      "nearest points, rel_err = abs_err = 0). Time: the fastest of repeated passes over all poses, in us per\n"
-      "query; ratios RS / RSS and RS / OBBRSS. Quality: the largest |d - d_RSS| over the poses relative to\n"
-      "r1 + r2, and the BV and triangle tests per query (traversal nodes with statistics on the same poses).\n"
-      "\n"
-      "Refit: per mesh, N successive smooth deformations (a twist plus a travelling wave of 5%% of the mesh\n"
-      "size); each is applied with FCL's update API (beginUpdateModel / updateVertex / endUpdateModel, so\n"
-      "nodes bound the previous and the current frame) bottom-up (leaf fits + merges) and top-down (a fit\n"
-      "per node), and, for reference, as a full rebuild (endUpdateModel(false, ...)). Time: ms per refit\n"
-      "(mean over the N frames, fastest of repeated runs); ratios RS / OBB and RS / OBBRSS. Quality: nodes\n"
-      "that fail to contain a vertex (either frame) of a triangle below them, beyond 1e-9 of the mesh size\n"
-      "(FCL's OBB merge is not conservative), summed over the frames.\n"
-      "\n"
-      "Meshes: generated (torus x ellipsoid, sphere x box) and, when present, FCL's env x rob and bunny x\n"
-      "hand (low-resolution versions) from " FCL_RS_SHARED_DATA_DIR "/models.\n"
-      "  --csv FILE  also write every number to FILE (columns table,case,bv,quantity,value)\n");
+  app.add_option("--queries", opt.queries, "random poses per mesh pair")->check(CLI::Range(1, 100000))->capture_default_str();
+  app.add_option("--refits", opt.refits, "deformed frames per mesh")->check(CLI::Range(1, 10000))->capture_default_str();
+  app.add_option("--seed", opt.seed, "random seed")->capture_default_str();
+  app.add_flag("--wall-clock", [](std::int64_t) { g_clock = TimeSource::kWall; },
+               "time with steady_clock instead of the thread's CPU time");
+  app.add_option("--csv", opt.csv, "also write every number to FILE (columns table,case,bv,quantity,value)");
 }
 
-Options parseOptions(int argc, char** argv)
-{
-  Options opt;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string arg = argv[i];
-    auto value = [&]() -> const char* {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "--help" || arg == "-h")
-    {
-      printHelp();
-      std::exit(0);
-    }
-    else if (arg == "--queries")
-      opt.queries = int(std::max(1ULL, std::min(number(arg, value()), 100000ULL)));
-    else if (arg == "--refits")
-      opt.refits = int(std::max(1ULL, std::min(number(arg, value()), 10000ULL)));
-    else if (arg == "--seed")
-      opt.seed = number(arg, value());
-    else if (arg == "--csv")
-      opt.csv = value();
-    else
-      throw std::invalid_argument("unknown option " + arg + " (see --help)");
-  }
-  return opt;
-}
-
-/// Long-format CSV: one number per row.
+/// Long-format CSV: one number per row (nothing written without a file name).
 class Csv
 {
 public:
   explicit Csv(const std::string& path)
   {
-    if (path.empty()) return;
-    out_.open(path);
-    if (!out_) throw std::runtime_error("cannot write " + path);
-    out_ << "table,case,bv,quantity,value\n";
+    if (!path.empty()) out_.emplace(path, std::vector<std::string>{"table", "case", "bv", "quantity", "value"});
   }
   void add(const std::string& table, const std::string& what, const std::string& bv, const std::string& quantity,
            double value)
   {
-    if (out_.is_open()) out_ << table << ',' << what << ',' << bv << ',' << quantity << ',' << value << '\n';
+    if (out_) out_->row({table, what, bv, quantity, value});
+  }
+  void close()
+  {
+    if (out_) out_->close();
   }
 
 private:
-  std::ofstream out_;
+  std::optional<fcl_rs::tools::CsvWriter> out_;
 };
 
-/// Seconds per call of run(): the fastest of passes repeated until kMinTimedSeconds have elapsed.
 struct NamedMesh
 {
   std::string name;
@@ -183,11 +171,12 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
 
   struct Row
   {
-    const char* bv;
+    std::string bv;
     std::function<double(std::size_t)> query;
-    std::function<void(std::size_t, double&, double&)> count;
+    std::function<void(std::size_t, double&, double&)> count;  // null: the library exposes no counts
     std::vector<double> d;
     double seconds = 0, bv_tests = 0, leaf_tests = 0, max_err = 0;
+    int disagreements = 0;  // poses colliding (distance <= 0) for this row and not for RSS, or the reverse
   };
   std::vector<Row> rows;
   rows.push_back({"RS",
@@ -217,6 +206,17 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
                     countTests<fcl::detail::MeshDistanceTraversalNodeOBBRSS<S>>(*ob1, tf1[i], *ob2, tf2[i], bt, lt);
                   },
                   {}});
+#ifdef FCL_RS_WITH_COAL
+  // Coal's RSS and OBBRSS trees, same meshes and poses (relative transform in both).
+  std::vector<std::unique_ptr<fcl_rs::bench::CoalMeshPair>> coal;
+  for (const auto bv : {fcl_rs::bench::CoalBV::kRSS, fcl_rs::bench::CoalBV::kOBBRSS})
+  {
+    coal.push_back(std::make_unique<fcl_rs::bench::CoalMeshPair>(bv, a.mesh.vertices, a.mesh.triangles,
+                                                                  b.mesh.vertices, b.mesh.triangles));
+    const fcl_rs::bench::CoalMeshPair& trees = *coal.back();
+    rows.push_back({fcl_rs::bench::coalName(bv), [&](std::size_t i) { return trees.distance(tf1[i], tf2[i]); }, {}, {}});
+  }
+#endif
 
   const std::size_t n = tf1.size();
   for (Row& row : rows)
@@ -228,29 +228,45 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
                       [&] {
                         for (std::size_t i = 0; i < n; ++i) sink += row.query(i);
                       },
-                      kMinTimedSeconds, kMinPasses) /
+                      kMinTimedSeconds, kMinPasses, g_clock) /
                   double(n);
     if (!std::isfinite(sink)) std::printf("(non-finite distance)\n");
-    for (std::size_t i = 0; i < n; ++i) row.count(i, row.bv_tests, row.leaf_tests);
+    if (row.count)
+      for (std::size_t i = 0; i < n; ++i) row.count(i, row.bv_tests, row.leaf_tests);
+    else
+      row.bv_tests = row.leaf_tests = std::numeric_limits<double>::quiet_NaN();
   }
   int colliding = 0;
   const double scale = ba.radius + bb.radius;
+  const Row& rss = rows[1];
   for (std::size_t i = 0; i < n; ++i)
   {
-    colliding += rows[1].d[i] <= 0;
-    for (Row& row : rows) row.max_err = std::max(row.max_err, std::abs(row.d[i] - rows[1].d[i]) / scale);
+    colliding += rss.d[i] <= 0;
+    // Coal reports a penetration depth (below 0) where FCL reports 0: both mean "colliding".
+    for (Row& row : rows)
+    {
+      row.max_err = std::max(row.max_err, std::abs(std::max(row.d[i], 0.0) - rss.d[i]) / scale);
+      row.disagreements += (row.d[i] <= 0) != (rss.d[i] <= 0);
+    }
   }
+  // The fastest peer: FCL's RSS and OBBRSS, and Coal's rows when present.
+  double fastest_peer = std::numeric_limits<double>::infinity();
+  for (std::size_t r = 1; r < rows.size(); ++r) fastest_peer = std::min(fastest_peer, rows[r].seconds);
 
   std::printf("\n%s: %d + %d triangles, %zu poses, %d colliding\n", what.c_str(), int(a.mesh.triangles.size()),
               int(b.mesh.triangles.size()), n, colliding);
-  std::printf("  %-7s %12s %9s %11s %11s %12s\n", "BV", "us/query", "RS/this", "BV tests", "tri tests",
-              "max err/r");
+  std::printf("  %-11s %12s %9s %10s %11s %11s %12s %9s\n", "BV", "us/query", "RS/this", "this/best", "BV tests",
+              "tri tests", "max err/r", "disagree");
   for (const Row& row : rows)
   {
-    std::printf("  %-7s %12.2f %9.2f %11.1f %11.1f %12.2e\n", row.bv, 1e6 * row.seconds,
-                rows[0].seconds / row.seconds, row.bv_tests / double(n), row.leaf_tests / double(n), row.max_err);
+    const auto count = [&](double c) { return std::isnan(c) ? std::string("-") : fixed(c / double(n), 1); };
+    std::printf("  %-11s %12.2f %9.2f %10.2f %11s %11s %12.2e %9d\n", row.bv.c_str(), 1e6 * row.seconds,
+                rows[0].seconds / row.seconds, row.seconds / fastest_peer, count(row.bv_tests).c_str(),
+                count(row.leaf_tests).c_str(), row.max_err, row.disagreements);
     csv.add("distance", what, row.bv, "us_per_query", 1e6 * row.seconds);
     csv.add("distance", what, row.bv, "rs_time_ratio", rows[0].seconds / row.seconds);
+    csv.add("distance", what, row.bv, "time_over_fastest_peer", row.seconds / fastest_peer);
+    csv.add("distance", what, row.bv, "verdict_disagreements_vs_rss", row.disagreements);
     csv.add("distance", what, row.bv, "bv_tests_per_query", row.bv_tests / double(n));
     csv.add("distance", what, row.bv, "tri_tests_per_query", row.leaf_tests / double(n));
     csv.add("distance", what, row.bv, "max_abs_diff_vs_rss_over_r", row.max_err);
@@ -373,8 +389,8 @@ void refitRow(const char* bv_name, const NamedMesh& nm, const Options& opt, Csv&
     };
     bad[k] = run(true);
     // Timed: the frames only (the initial build is timed apart by subtracting a build-only run).
-    const double with_build = bestSeconds([&] { run(false); }, kMinTimedSeconds, kMinPasses);
-    const double build_only = bestSeconds([&] { model = fcl_rs::buildModel<BV>(nm.mesh); }, kMinTimedSeconds, kMinPasses);
+    const double with_build = bestSeconds([&] { run(false); }, kMinTimedSeconds, kMinPasses, g_clock);
+    const double build_only = bestSeconds([&] { model = fcl_rs::buildModel<BV>(nm.mesh); }, kMinTimedSeconds, kMinPasses, g_clock);
     ms[k] = 1e3 * std::max(0.0, with_build - build_only) / opt.refits;
   }
   std::printf("  %-7s", bv_name);
@@ -405,15 +421,26 @@ void benchRefit(const NamedMesh& nm, const Options& opt, Csv& csv)
 
 int main(int argc, char** argv)
 {
+  Options opt;
+  CLI::App app(kDescription, "fcl_rs_bench_distance");
+  addOptions(app, opt);
+  if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
   try
   {
-    const Options opt = parseOptions(argc, argv);
     Csv csv(opt.csv);
     const auto pairs = meshPairs();
+    std::printf("fcl_rs_bench_distance: machine: nproc %d, CPU %s; compiler %s; timing with %s\n", onlineCpus(),
+                cpuModel().c_str(), __VERSION__,
+                g_clock == TimeSource::kThreadCpu ? "the thread's CPU time" : "steady_clock (wall time)");
+#ifdef FCL_RS_WITH_COAL
+    std::printf("peer: Coal %s (RSS, OBBRSS through coal::distance; no BV-test counts)\n",
+                fcl_rs::bench::coalVersion().c_str());
+#endif
     std::printf("Distance per query (double); RS/this = RS time / this BV's time (below 1: RS is faster)\n");
     for (const auto& [a, b] : pairs) benchDistance(a, b, opt, csv);
     std::printf("\nRefit after deformation (double), FCL's update API\n");
     for (const auto& [a, b] : pairs) benchRefit(a, opt, csv);
+    csv.close();
     if (!opt.csv.empty()) std::printf("\nCSV written to %s\n", opt.csv.c_str());
   }
   catch (const std::exception& e)

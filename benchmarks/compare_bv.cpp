@@ -5,6 +5,11 @@
 // (resolved by a brute-force triangle-pair test). Then RS/OBBRSS ratios per pair and their median.
 
 #include "bench_common.h"
+#include "common/command_line.h"
+#include "common/csv_writer.h"
+#ifdef FCL_RS_WITH_COAL
+#include "coal_peer.h"
+#endif
 
 #include <fcl/config.h>
 #include <fcl/math/bv/AABB.h>
@@ -38,6 +43,10 @@ constexpr int kCalibrationPoses = 200;
 constexpr double kTargetCollidingShare = 0.45;
 constexpr double kMinTimedSeconds = 0.15;  // per timed measurement, so that short passes are repeated
 constexpr int kMinPasses = 3;
+
+/// What every timed pass is measured with: the thread's CPU time unless --wall-clock (a busy machine
+/// disturbs CPU time far less than wall time).
+TimeSource g_clock = TimeSource::kThreadCpu;
 constexpr std::size_t kWorldBlock = 32;    // poses whose world-frame trees are held in memory at once
 constexpr std::size_t kRebuildPoses = 20;  // poses timed on FCL's copy-and-rebuild path
 constexpr int kRebuildPasses = 2;
@@ -52,79 +61,55 @@ struct Options
   std::vector<std::string> files;
 };
 
-void printHelp()
+std::string description()
 {
-  std::printf(
-      "Usage: fcl_rs_compare [options] [mesh files...]\n"
-      "\n"
-      "Compares the RS bounding volume with FCL's OBB, RSS, OBBRSS, kIOS, AABB, KDOP16, KDOP18 and\n"
-      "KDOP24 on mesh-mesh collision queries (double precision, same random poses for every type).\n"
-      "RS runs with each overlap test: RS (the default, boxed, and the reference), RS-two (two-sided) and\n"
-      "RS-one (one-sided).\n"
-      "\n"
-      "Without files: generated pairs (sphere x torus, ellipsoid x ellipsoid, diamond x box), assimp\n"
-      "test models in " FCL_RS_ASSIMP_MODELS_DIR " (STL/Spider_binary.stl x itself,\n"
-      "OFF/Wuson.off x PLY/Wuson.ply, Collada/duck.dae x Collada/teapots.DAE) and FCL's env x rob\n"
-      "from " FCL_RS_SHARED_DATA_DIR "/models; missing files are skipped.\n"
-      "With files (any format assimp reads): each file is collided against itself (two copies in\n"
-      "independent poses); with --pairs, files 1+2, 3+4, ... are collided instead.\n"
-      "\n"
-      "Options:\n"
-      "  --queries N  random poses per mesh pair (default %d)\n"
-      "  --seed N     random seed (default 1)\n"
-      "  --csv FILE   also write every table row to FILE as CSV\n"
-      "  --pairs      collide consecutive files instead of each file with itself\n"
-      "  --verify     brute-force every pose (all triangle pairs) and check RS's verdicts against it\n"
-      "  --help       this text\n"
-      "\n"
-      "Poses: both meshes get uniform random rotations (Shoemake); mesh 1's bounding-box centre is at the\n"
-      "origin and mesh 2's is placed uniformly in a ball whose radius is calibrated per pair (with RS) so\n"
-      "that about %.0f%% of the poses collide.\n"
-      "Requests: 'all' = exhaustive (num_max_contacts unbounded), 'first' = num_max_contacts 1;\n"
-      "enable_contact is false in both.\n"
-      "Paths: 'local' = trees built once in the mesh frames, traversal with the relative transform;\n"
-      "'fcl-rebuild' = FCL's own path for AABB/KDOP: copy both models, move them to the world frame and\n"
-      "rebuild per query (fcl::collide does this), timed on the first %zu poses; 'world-tree' = the same\n"
-      "world-frame trees prebuilt outside the timer, traversal with identity transforms (traversal alone).\n"
-      "Times: the fastest of repeated passes over the whole pose set (steady_clock).\n",
-      kDefaultQueries, 100 * kTargetCollidingShare, kRebuildPoses);
+  return "Compares the RS bounding volume with FCL's OBB, RSS, OBBRSS, kIOS, AABB, KDOP16, KDOP18 and\n"
+         "KDOP24 on mesh-mesh collision queries (double precision, same random poses for every type).\n"
+         "RS runs with each overlap test: RS (the default, boxed, and the reference), RS-two (two-sided) and\n"
+         "RS-one (one-sided). Built with FCL_RS_WITH_COAL, Coal's OBB, OBBRSS and kIOS are measured too.\n"
+         "\n"
+         "Without files: generated pairs (sphere x torus, ellipsoid x ellipsoid, diamond x box), assimp\n"
+         "test models in " FCL_RS_ASSIMP_MODELS_DIR " (STL/Spider_binary.stl x itself,\n"
+         "OFF/Wuson.off x PLY/Wuson.ply, Collada/duck.dae x Collada/teapots.DAE) and FCL's env x rob\n"
+         "from " FCL_RS_SHARED_DATA_DIR "/models; missing files are skipped.\n"
+         "With files (any format assimp reads): each file is collided against itself (two copies in\n"
+         "independent poses); with --pairs, files 1+2, 3+4, ... are collided instead.\n";
 }
 
-void parseOptions(int argc, char** argv, Options& opt)
+std::string footer()
 {
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string arg = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "--help" || arg == "-h")
-    {
-      printHelp();
-      std::exit(0);
-    }
-    else if (arg == "--queries")
-    {
-      const unsigned long long n = number(arg, value());
-      if (n < 1 || n > 1000000) throw std::invalid_argument("--queries must be between 1 and 1000000");
-      opt.queries = int(n);
-    }
-    else if (arg == "--seed")
-      opt.seed = number(arg, value());
-    else if (arg == "--csv")
-      opt.csv = value();
-    else if (arg == "--pairs")
-      opt.consecutive_pairs = true;
-    else if (arg == "--verify")
-      opt.verify = true;
-    else if (!arg.empty() && arg[0] == '-')
-      throw std::invalid_argument("unknown option " + arg + " (see --help)");
-    else
-      opt.files.push_back(arg);
-  }
-  if (opt.consecutive_pairs && opt.files.size() % 2 != 0)
-    throw std::invalid_argument("--pairs needs an even number of files");
+  return "Poses: both meshes get uniform random rotations (Shoemake); mesh 1's bounding-box centre is at the\n"
+         "origin and mesh 2's is placed uniformly in a ball whose radius is calibrated per pair (with RS) so\n"
+         "that about " + fixed(100 * kTargetCollidingShare, 0) + "% of the poses collide.\n"
+         "Requests: 'all' = exhaustive (num_max_contacts unbounded), 'first' = num_max_contacts 1;\n"
+         "enable_contact is false in both (Coal: NO_REQUEST, security_margin = break_distance = 0).\n"
+         "Paths: 'local' = trees built once in the mesh frames, traversal with the relative transform;\n"
+         "'coal' = Coal's trees built once, coal::collide (relative transform);\n"
+         "'fcl-rebuild' = FCL's own path for AABB/KDOP: copy both models, move them to the world frame and\n"
+         "rebuild per query (fcl::collide does this), timed on the first " + std::to_string(kRebuildPoses) +
+         " poses; 'world-tree' = the same\n"
+         "world-frame trees prebuilt outside the timer, traversal with identity transforms (traversal alone).\n"
+         "Times: the fastest of repeated passes over the whole pose set, in this thread's CPU time\n"
+         "(CLOCK_THREAD_CPUTIME_ID; --wall-clock: steady_clock).\n";
+}
+
+void addOptions(CLI::App& app, Options& opt)
+{
+  app.footer(footer());
+  app.add_option("files", opt.files, "mesh files (any format assimp reads)")->check(CLI::ExistingFile);
+  app.add_option("--queries", opt.queries, "random poses per mesh pair")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  app.add_option("--seed", opt.seed, "random seed")->capture_default_str();
+  app.add_flag("--wall-clock", [](std::int64_t) { g_clock = TimeSource::kWall; },
+               "time with steady_clock instead of the thread's CPU time");
+  app.add_option("--csv", opt.csv, "also write every table row to FILE as CSV");
+  app.add_flag("--pairs", opt.consecutive_pairs, "collide consecutive files instead of each file with itself");
+  app.add_flag("--verify", opt.verify, "brute-force every pose (all triangle pairs) and check RS's verdicts against it");
+  app.callback([&opt] {
+    if (opt.consecutive_pairs && opt.files.size() % 2 != 0)
+      throw CLI::ValidationError("--pairs", "needs an even number of files");
+  });
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -230,6 +215,7 @@ struct Row
   double bv_tests = 0, leaf_tests = 0, contacts = 0;
   double colliding = 0;
   int disagreements = -1;  // -1: this row is the reference (RS)
+  double vs_fastest_all = 0, vs_fastest_first = 0;  // time / the fastest of FCL's and Coal's rows on this pair
 };
 
 // Colliding verdicts per pose, for the exhaustive and the first-contact request.
@@ -273,7 +259,7 @@ double buildMs(const MeshPair& pair)
            const auto a = fcl_rs::buildModel<BV>(pair.a);
            const auto b = fcl_rs::buildModel<BV>(pair.b);
            g_sink += std::size_t(a->getNumBVs() + b->getNumBVs());
-         }, kMinTimedSeconds / 2, kMinPasses);
+         }, kMinTimedSeconds / 2, kMinPasses, g_clock);
 }
 
 // One query's outcome, accumulated into the row's per-query averages and the verdict lists.
@@ -350,7 +336,7 @@ Row measureLocal(const Context& ctx, const std::string& name, Verdicts& v,
                localQuery(*ma, p, *mb, request, result, test);
                g_sink += result.numContacts();
              }
-           }, kMinTimedSeconds, kMinPasses);
+           }, kMinTimedSeconds, kMinPasses, g_clock);
   };
   ctx.progress.stage(name + " timing");
   row.us_all = timePass(exhaustiveRequest());
@@ -399,7 +385,7 @@ std::vector<Row> measureWorld(const Context& ctx, const std::string& name)
           collideWorldTrees(*wa[k], *wb[k], request, result);
           g_sink += result.numContacts();
         }
-      }, kMinTimedSeconds * double(end - begin) / n, kMinPasses);
+      }, kMinTimedSeconds * double(end - begin) / n, kMinPasses, g_clock);
     };
     world.us_all += 1e6 / n * timeBlock(exhaustiveRequest());
     world.us_first += 1e6 / n * timeBlock(firstContactRequest());
@@ -431,7 +417,7 @@ std::vector<Row> measureWorld(const Context& ctx, const std::string& name)
                fcl_rs::collideWithStats(*ma, poses[i].tf1, *mb, poses[i].tf2, request, result);
                g_sink += result.numContacts();
              }
-           }, 0, kRebuildPasses);
+           }, 0, kRebuildPasses, g_clock);
   };
   rebuild.us_all = timeRebuild(exhaustiveRequest());
   rebuild.us_first = timeRebuild(firstContactRequest());
@@ -443,67 +429,171 @@ std::vector<Row> measureWorld(const Context& ctx, const std::string& name)
   return {rebuild, world};
 }
 
+#ifdef FCL_RS_WITH_COAL
+// Coal's trees in the mesh frames, queried through coal::collide (relative transform for OBB, OBBRSS and
+// kIOS). Coal runs no BV test between two leaves and exposes no counts, so its rows compare times only.
+Row measureCoal(const Context& ctx, fcl_rs::bench::CoalBV bv, Verdicts& v)
+{
+  const std::string name = fcl_rs::bench::coalName(bv);
+  Row row = newRow(ctx, name, "coal");
+  row.bv_tests = row.leaf_tests = std::numeric_limits<double>::quiet_NaN();
+  const auto& poses = ctx.poses;
+  const MeshPair& pair = ctx.pair;
+  const auto build = [&] {
+    return std::make_unique<fcl_rs::bench::CoalMeshPair>(bv, pair.a.vertices, pair.a.triangles, pair.b.vertices,
+                                                          pair.b.triangles);
+  };
+  ctx.progress.stage(name + " build");
+  row.build_ms = 1e3 * bestSeconds([&] { build(); }, kMinTimedSeconds / 2, kMinPasses, g_clock);  // Coal's library calls stay
+  const auto trees = build();
+
+  ctx.progress.stage(name + " verdicts");
+  constexpr std::size_t kAll = std::numeric_limits<std::size_t>::max();
+  v.all.assign(poses.size(), 0);
+  v.first.assign(poses.size(), 0);
+  for (std::size_t i = 0; i < poses.size(); ++i)
+  {
+    const std::size_t contacts = trees->collide(poses[i].tf1, poses[i].tf2, kAll);
+    row.contacts += double(contacts);
+    row.colliding += contacts > 0;
+    v.all[i] = contacts > 0;
+    v.first[i] = trees->collide(poses[i].tf1, poses[i].tf2, 1) > 0;
+  }
+  finish(ctx, row, v);
+
+  const auto timePass = [&](std::size_t max_contacts) {
+    return 1e6 / double(poses.size()) * bestSeconds([&] {
+             for (const Pose& p : poses) g_sink += trees->collide(p.tf1, p.tf2, max_contacts);
+           }, kMinTimedSeconds, kMinPasses, g_clock);
+  };
+  ctx.progress.stage(name + " timing");
+  row.us_all = timePass(kAll);
+  row.us_first = timePass(1);
+  return row;
+}
+#endif
+
 // ---------------------------------------------------------------------------------------------------
 // Output
 
+/// The library a row measures, from its name.
+std::string libraryOf(const Row& r)
+{
+  return r.bv.rfind("RS", 0) == 0 ? "fcl_rs" : r.bv.rfind("Coal ", 0) == 0 ? "Coal" : "FCL";
+}
+
+/// The fastest FCL and the fastest Coal row (per request) of one pair: FCL's local and fcl-rebuild paths (the
+/// ones fcl::collide takes), not the world-tree rows that leave the rebuild out.
+struct Fastest
+{
+  double fcl_all = kNoTime, fcl_first = kNoTime, coal_all = kNoTime, coal_first = kNoTime;
+  static constexpr double kNoTime = std::numeric_limits<double>::infinity();
+  double all() const { return std::min(fcl_all, coal_all); }
+  double first() const { return std::min(fcl_first, coal_first); }
+};
+
+Fastest fastestPeers(const std::vector<Row>& rows)
+{
+  Fastest f;
+  for (const Row& r : rows)
+  {
+    const std::string lib = libraryOf(r);
+    if (lib == "FCL" && r.path != "world-tree")
+    {
+      f.fcl_all = std::min(f.fcl_all, r.us_all);
+      f.fcl_first = std::min(f.fcl_first, r.us_first);
+    }
+    else if (lib == "Coal")
+    {
+      f.coal_all = std::min(f.coal_all, r.us_all);
+      f.coal_first = std::min(f.coal_first, r.us_first);
+    }
+  }
+  return f;
+}
+
+/// A per-query count, or "-" where the library exposes none.
+std::string countText(double x) { return std::isnan(x) ? "-" : fixed(x, 1); }
+
 void printTableHeader()
 {
-  std::printf("  %-7s %-12s %9s %10s %10s %9s %9s %9s %7s %8s\n", "BV", "path", "build ms", "us/q all",
+  std::printf("  %-11s %-12s %9s %10s %10s %9s %9s %9s %7s %8s\n", "BV", "path", "build ms", "us/q all",
               "us/q first", "BV tests", "tri tests", "contacts", "collide", "disagree");
 }
 
 void printRow(const Row& r)
 {
-  std::printf("  %-7s %-12s %9s %10s %10s %9s %9s %9s %6.1f%% %8s\n", r.bv.c_str(), r.path.c_str(),
+  std::printf("  %-11s %-12s %9s %10s %10s %9s %9s %9s %6.1f%% %8s\n", r.bv.c_str(), r.path.c_str(),
               fixed(r.build_ms, 2).c_str(), timeText(r.us_all).c_str(), timeText(r.us_first).c_str(),
-              fixed(r.bv_tests, 1).c_str(), fixed(r.leaf_tests, 1).c_str(), fixed(r.contacts, 1).c_str(),
+              countText(r.bv_tests).c_str(), countText(r.leaf_tests).c_str(), fixed(r.contacts, 1).c_str(),
               100 * r.colliding, r.disagreements < 0 ? "ref" : std::to_string(r.disagreements).c_str());
 }
 
 void writeCsv(const std::string& path, const std::vector<Row>& rows)
 {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path);
-  out << "pair,tris_a,tris_b,bv,path,build_ms,us_per_query_all,us_per_query_first,bv_tests_per_query,"
-         "tri_tests_per_query,contacts_per_query,colliding_share,disagreements_vs_rs\n";
+  fcl_rs::tools::CsvWriter csv(path, {"pair", "tris_a", "tris_b", "bv", "path", "build_ms", "us_per_query_all",
+                                      "us_per_query_first", "bv_tests_per_query", "tri_tests_per_query",
+                                      "contacts_per_query", "colliding_share", "disagreements_vs_rs", "library",
+                                      "us_all_over_fastest_peer", "us_first_over_fastest_peer"});
   for (const Row& r : rows)
-    out << '"' << r.pair << "\"," << r.tris_a << ',' << r.tris_b << ',' << r.bv << ',' << r.path << ','
-        << r.build_ms << ',' << r.us_all << ',' << r.us_first << ',' << r.bv_tests << ',' << r.leaf_tests << ','
-        << r.contacts << ',' << r.colliding << ',' << std::max(r.disagreements, 0) << '\n';
+    csv.row({r.pair, r.tris_a, r.tris_b, r.bv, r.path, r.build_ms, r.us_all, r.us_first, r.bv_tests, r.leaf_tests,
+             r.contacts, r.colliding, std::max(r.disagreements, 0), libraryOf(r), r.vs_fastest_all,
+             r.vs_fastest_first});
+  csv.close();
 }
 
 struct Ratios
 {
   std::string pair;
-  double build, us_all, us_first, bv_tests, leaf_tests;
+  std::array<double, 5> vs_obbrss;  ///< build, us all, us first, BV tests, triangle tests
+  std::array<double, 6> vs_fastest;  ///< us all / fastest FCL, Coal, both; the same for us first
 };
 
-Ratios ratios(const Row& rs, const Row& ref)
+/// NaN where the peer was not measured (no Coal rows).
+double ratioToPeer(double rs, double peer) { return std::isinf(peer) ? std::numeric_limits<double>::quiet_NaN() : ratio(rs, peer); }
+
+Ratios ratios(const Row& rs, const Row& obbrss, const Fastest& f)
 {
-  return {rs.pair, ratio(rs.build_ms, ref.build_ms), ratio(rs.us_all, ref.us_all),
-          ratio(rs.us_first, ref.us_first), ratio(rs.bv_tests, ref.bv_tests), ratio(rs.leaf_tests, ref.leaf_tests)};
+  return {rs.pair,
+          {ratio(rs.build_ms, obbrss.build_ms), ratio(rs.us_all, obbrss.us_all), ratio(rs.us_first, obbrss.us_first),
+           ratio(rs.bv_tests, obbrss.bv_tests), ratio(rs.leaf_tests, obbrss.leaf_tests)},
+          {ratioToPeer(rs.us_all, f.fcl_all), ratioToPeer(rs.us_all, f.coal_all), ratioToPeer(rs.us_all, f.all()),
+           ratioToPeer(rs.us_first, f.fcl_first), ratioToPeer(rs.us_first, f.coal_first),
+           ratioToPeer(rs.us_first, f.first())}};
+}
+
+/// One line per pair and the median over the pairs (NaN cells are printed as "-" and left out of medians).
+template <std::size_t N>
+void printRatioTable(const std::vector<Ratios>& all, std::array<double, N> Ratios::*values,
+                     const std::array<const char*, N>& headers)
+{
+  const auto line = [](const std::string& name, const std::array<double, N>& r) {
+    std::printf("  %-40s", name.c_str());
+    for (double x : r) std::printf(" %10s", ratioText(x).c_str());
+    std::printf("\n");
+  };
+  std::printf("  %-40s", "pair");
+  for (const char* h : headers) std::printf(" %10s", h);
+  std::printf("\n");
+  std::array<std::vector<double>, N> columns;
+  for (const Ratios& r : all)
+  {
+    line(r.pair, r.*values);
+    for (std::size_t c = 0; c < N; ++c)
+      if (!std::isnan((r.*values)[c])) columns[c].push_back((r.*values)[c]);
+  }
+  std::array<double, N> medians;
+  for (std::size_t c = 0; c < N; ++c) medians[c] = median(columns[c]);
+  if (!all.empty()) line("median over " + std::to_string(all.size()) + " pairs", medians);
 }
 
 void printRatios(const std::vector<Ratios>& all)
 {
   std::printf("\nRS / OBBRSS, measured in this run (< 1: RS cheaper)\n");
-  std::printf("  %-40s %7s %9s %10s %9s %9s\n", "pair", "build", "us/q all", "us/q first", "BV tests", "tri tests");
-  const auto line = [](const std::string& name, const std::array<double, 5>& r) {
-    std::printf("  %-40s %7s %9s %10s %9s %9s\n", name.c_str(), ratioText(r[0]).c_str(), ratioText(r[1]).c_str(),
-                ratioText(r[2]).c_str(), ratioText(r[3]).c_str(), ratioText(r[4]).c_str());
-  };
-  std::array<std::vector<double>, 5> columns;
-  for (const Ratios& r : all)
-  {
-    const std::array<double, 5> values = {r.build, r.us_all, r.us_first, r.bv_tests, r.leaf_tests};
-    line(r.pair, values);
-    for (std::size_t c = 0; c < values.size(); ++c)
-      if (!std::isnan(values[c])) columns[c].push_back(values[c]);
-  }
-  std::array<double, 5> medians;
-  for (std::size_t c = 0; c < columns.size(); ++c)
-    medians[c] = columns[c].empty() ? std::numeric_limits<double>::quiet_NaN() : median(columns[c]);
-  if (!all.empty()) line("median over " + std::to_string(all.size()) + " pairs", medians);
+  printRatioTable<5>(all, &Ratios::vs_obbrss, {"build", "us/q all", "us/q first", "BV tests", "tri tests"});
+  std::printf("\nRS / the fastest peer per pair and request (FCL: local and fcl-rebuild paths; Coal: its rows)\n");
+  printRatioTable<6>(all, &Ratios::vs_fastest,
+                     {"all/FCL", "all/Coal", "all/best", "first/FCL", "first/Coal", "first/best"});
 }
 
 const char* verdictText(bool colliding) { return colliding ? "collide" : "free"; }
@@ -511,7 +601,7 @@ const char* verdictText(bool colliding) { return colliding ? "collide" : "free";
 // ---------------------------------------------------------------------------------------------------
 
 std::vector<Row> runPair(const MeshPair& pair, std::size_t index, const Options& opt, Progress& progress,
-                         Ratios& ratio)
+                         Ratios& pair_ratios)
 {
   progress.item(index, pair.name);
   progress.stage("calibrating poses");
@@ -542,8 +632,18 @@ std::vector<Row> runPair(const MeshPair& pair, std::size_t index, const Options&
   for (auto& r : measureWorld<fcl::KDOP<S, 16>>(ctx, "KDOP16")) rows.push_back(r);
   for (auto& r : measureWorld<fcl::KDOP<S, 18>>(ctx, "KDOP18")) rows.push_back(r);
   for (auto& r : measureWorld<fcl::KDOP<S, 24>>(ctx, "KDOP24")) rows.push_back(r);
+#ifdef FCL_RS_WITH_COAL
+  for (const auto bv : {fcl_rs::bench::CoalBV::kOBB, fcl_rs::bench::CoalBV::kOBBRSS, fcl_rs::bench::CoalBV::kIOS})
+    rows.push_back(measureCoal(ctx, bv, v));
+#endif
+  const Fastest fastest = fastestPeers(rows);
+  for (Row& r : rows)
+  {
+    r.vs_fastest_all = ratio(r.us_all, fastest.all());
+    r.vs_fastest_first = ratio(r.us_first, fastest.first());
+  }
   const auto obbrss = std::find_if(rows.begin(), rows.end(), [](const Row& r) { return r.bv == "OBBRSS"; });
-  ratio = ratios(rows.front(), *obbrss);
+  pair_ratios = ratios(rows.front(), *obbrss, fastest);
 
   // Brute force decides each pose on which some type disagrees with RS (and every pose with --verify).
   std::vector<int> truth(poses.size(), -1);
@@ -595,21 +695,28 @@ std::vector<Row> runPair(const MeshPair& pair, std::size_t index, const Options&
 int main(int argc, char** argv)
 {
   Options opt;
+  CLI::App app(description(), "fcl_rs_compare");
+  addOptions(app, opt);
+  if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
   std::vector<MeshPair> pairs;
   try
   {
-    parseOptions(argc, argv, opt);
     pairs = opt.files.empty() ? defaultPairs() : filePairs(opt);
   }
   catch (const std::exception& e)
   {
     std::fprintf(stderr, "fcl_rs_compare: %s\n", e.what());
-    return 2;
+    return 1;
   }
 
   std::printf("fcl_rs_compare: RS vs FCL %s bounding volumes, double precision\n", FCL_VERSION);
-  std::printf("machine: nproc %d, CPU %s; compiler %s; single-threaded timing with steady_clock\n", onlineCpus(),
-              cpuModel().c_str(), __VERSION__);
+#ifdef FCL_RS_WITH_COAL
+  std::printf("peer: Coal %s (OBB, OBBRSS, kIOS through coal::collide; no BV-test counts)\n",
+              fcl_rs::bench::coalVersion().c_str());
+#endif
+  std::printf("machine: nproc %d, CPU %s; compiler %s; single-threaded timing with %s\n", onlineCpus(),
+              cpuModel().c_str(), __VERSION__,
+              g_clock == TimeSource::kThreadCpu ? "the thread's CPU time" : "steady_clock (wall time)");
   std::printf("%d poses per pair, seed %llu (see --help for poses, requests and paths)\n", opt.queries,
               static_cast<unsigned long long>(opt.seed));
   std::printf("columns: build ms = both trees, in the mesh frames; us/q = microseconds per query (best pass),\n"
@@ -620,6 +727,7 @@ int main(int argc, char** argv)
               "  reference); RS-two = both polytopes on all 18 slab directions; RS-one = the paper's one-sided test\n"
               "  (b's polytope on a's nine directions).\n"
               "paths: local = relative-transform traversal of trees built once (RS, OBB, RSS, OBBRSS, kIOS);\n"
+              "  coal = Coal's trees built once, coal::collide with the relative transform;\n"
               "  world-tree = AABB/KDOP traversal of world-frame trees prebuilt outside the timer;\n"
               "  fcl-rebuild = FCL's own AABB/KDOP path (copy both models, rebuild them in the world frame in\n"
               "  every query, as fcl::collide does), timed on the first %zu poses; it builds the world-tree\n"
@@ -650,7 +758,15 @@ int main(int argc, char** argv)
   std::printf("\ntotal run time %.1f s\n", std::chrono::duration<double>(Clock::now() - start).count());
   if (!opt.csv.empty())
   {
-    writeCsv(opt.csv, rows);
+    try
+    {
+      writeCsv(opt.csv, rows);
+    }
+    catch (const std::exception& e)
+    {
+      std::fprintf(stderr, "fcl_rs_compare: %s\n", e.what());
+      return 1;
+    }
     std::printf("CSV written to %s\n", opt.csv.c_str());
   }
   return 0;

@@ -7,6 +7,9 @@
 // issue's targets as ratios, and the accuracy-time plot.
 
 #include "bench_common.h"
+#include "common/command_line.h"
+#include "common/csv_writer.h"
+#include "common/gnuplot.h"
 #include "fcl_rs/bvh/frame_fit.h"
 
 #include <fcl/config.h>
@@ -29,7 +32,6 @@
 #include <functional>
 #include <map>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -79,101 +81,61 @@ struct Options
   std::vector<std::string> files;
 };
 
-void printHelp()
+std::string description()
 {
-  std::printf(
-      "Usage: fcl_rs_tradeoff [options] [mesh files...]\n"
-      "\n"
-      "Tightness against time for every bounding volume type: RS with each overlap test (two-sided,\n"
-      "one-sided, boxed) and each frame fit (vertices = vertex PCA, area = area-weighted triangle PCA,\n"
-      "hull = PCA of the convex hull's surface; all in trees split by surface area as fcl_rs::buildModel\n"
-      "builds them; vertices+mean = vertex PCA in a tree split by FCL's mean split), and FCL's OBB, RSS,\n"
-      "OBBRSS, kIOS, AABB, KDOP16, KDOP18\n"
-      "and KDOP24. Each mesh is collided with a copy of itself (double precision, same poses for every\n"
-      "type).\n"
-      "\n"
-      "Without files: every mesh in %s/models, every robot collision mesh in\n"
-      "%s/robots/*/meshes/collision, and generated shapes (sphere, ellipsoid,\n"
-      "box, torus, diamond). With files (any format assimp reads): those files only.\n"
-      "\n"
-      "Options:\n"
-      "  --quick            %d poses, meshes up to %zu triangles, short timing (a smoke run)\n"
-      "  --queries N        random poses per mesh (default %d)\n"
-      "  --seed N           random seed (default 1)\n"
-      "  --max-triangles N  skip meshes with more triangles\n"
-      "  --defaults         with files: run the default meshes too\n"
-      "  --wall-clock       time with steady_clock instead of the thread's CPU time\n"
-      "  --csv FILE         write every row to FILE as CSV\n"
-      "  --plot FILE        draw the accuracy-time plot with gnuplot (FILE ending .svg or .png); the\n"
-      "                     gnuplot script is kept beside it as FILE.gp\n"
-      "  --help             this text\n"
-      "\n"
-      "Poses: uniform random rotations for both copies, the second one's centre uniform in a ball\n"
-      "calibrated per mesh (with RS) so that about %.0f%% of the poses collide. A pose counts as colliding\n"
-      "when the default RS tree (vertex frames) finds a contact; every type is timed on the same\n"
-      "colliding and separated poses.\n"
-      "Paths: 'local' = trees built once in the mesh frame, traversal with the relative transform (RS,\n"
-      "OBB, RSS, OBBRSS, kIOS); 'world-tree' = AABB/KDOP trees rebuilt in the world frame for each pose\n"
-      "outside the timer, traversal alone (FCL's own collide() also pays that rebuild in every query).\n"
-      "Times: the fastest of at least 3 passes over the poses (more until 0.1 s, 0.02 s with --quick, are\n"
-      "spent), measured as this thread's CPU time (CLOCK_THREAD_CPUTIME_ID), which other processes on a busy machine disturb far\n"
-      "less than wall time; --wall-clock measures steady_clock instead.\n"
-      "Columns are described in docs/tradeoff.md.\n",
-      FCL_RS_SHARED_DATA_DIR, FCL_RS_SHARED_DATA_DIR, kQuickQueries, kQuickMaxTriangles, kDefaultQueries,
-      100 * kTargetCollidingShare);
+  return "Tightness against time for every bounding volume type: RS with each overlap test (two-sided,\n"
+         "one-sided, boxed) and each frame fit (vertices = vertex PCA, area = area-weighted triangle PCA,\n"
+         "hull = PCA of the convex hull's surface; all in trees split by surface area as fcl_rs::buildModel\n"
+         "builds them; vertices+mean = vertex PCA in a tree split by FCL's mean split), and FCL's OBB, RSS,\n"
+         "OBBRSS, kIOS, AABB, KDOP16, KDOP18\n"
+         "and KDOP24. Each mesh is collided with a copy of itself (double precision, same poses for every\n"
+         "type).\n"
+         "\n"
+         "Without files: every mesh in " FCL_RS_SHARED_DATA_DIR "/models, every robot collision mesh in\n"
+         FCL_RS_SHARED_DATA_DIR "/robots/*/meshes/collision, and generated shapes (sphere, ellipsoid,\n"
+         "box, torus, diamond). With files (any format assimp reads): those files only.\n";
 }
 
-void parseOptions(int argc, char** argv, Options& opt)
+std::string footer()
 {
-  bool queries_given = false;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string arg = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "--help" || arg == "-h")
-    {
-      printHelp();
-      std::exit(0);
-    }
-    else if (arg == "--quick")
-      opt.quick = true;
-    else if (arg == "--queries")
-    {
-      const unsigned long long n = number(arg, value());
-      if (n < 2 || n > 100000) throw std::invalid_argument("--queries must be between 2 and 100000");
-      opt.queries = int(n);
-      queries_given = true;
-    }
-    else if (arg == "--seed")
-      opt.seed = number(arg, value());
-    else if (arg == "--max-triangles")
-      opt.max_triangles = std::size_t(number(arg, value()));
-    else if (arg == "--defaults")
-      opt.with_defaults = true;
-    else if (arg == "--wall-clock")
-      opt.clock = TimeSource::kWall;
-    else if (arg == "--csv")
-      opt.csv = value();
-    else if (arg == "--plot")
-    {
-      opt.plot = value();
-      const std::string ext = std::filesystem::path(opt.plot).extension().string();
-      if (ext != ".svg" && ext != ".png") throw std::invalid_argument("--plot needs a file ending .svg or .png");
-    }
-    else if (!arg.empty() && arg[0] == '-')
-      throw std::invalid_argument("unknown option " + arg + " (see --help)");
-    else
-      opt.files.push_back(arg);
-  }
-  if (opt.quick)
-  {
-    if (!queries_given) opt.queries = kQuickQueries;
+  return "Poses: uniform random rotations for both copies, the second one's centre uniform in a ball\n"
+         "calibrated per mesh (with RS) so that about " + fixed(100 * kTargetCollidingShare, 0) +
+         "% of the poses collide. A pose counts as colliding\n"
+         "when the default RS tree (vertex frames) finds a contact; every type is timed on the same\n"
+         "colliding and separated poses.\n"
+         "Paths: 'local' = trees built once in the mesh frame, traversal with the relative transform (RS,\n"
+         "OBB, RSS, OBBRSS, kIOS); 'world-tree' = AABB/KDOP trees rebuilt in the world frame for each pose\n"
+         "outside the timer, traversal alone (FCL's own collide() also pays that rebuild in every query).\n"
+         "Times: the fastest of at least 3 passes over the poses (more until 0.1 s, 0.02 s with --quick, are\n"
+         "spent), measured as this thread's CPU time (CLOCK_THREAD_CPUTIME_ID), which other processes on a busy machine disturb far\n"
+         "less than wall time; --wall-clock measures steady_clock instead.\n"
+         "Columns are described in docs/tradeoff.md.\n";
+}
+
+void addOptions(CLI::App& app, Options& opt)
+{
+  app.footer(footer());
+  app.add_option("files", opt.files, "mesh files (any format assimp reads)")->check(CLI::ExistingFile);
+  app.add_flag("--quick", opt.quick,
+               std::to_string(kQuickQueries) + " poses, meshes up to " + std::to_string(kQuickMaxTriangles) +
+                   " triangles, short timing (a smoke run)");
+  app.add_option("--queries", opt.queries, "random poses per mesh")->check(CLI::Range(2, 100000))->capture_default_str();
+  app.add_option("--seed", opt.seed, "random seed")->capture_default_str();
+  app.add_option("--max-triangles", opt.max_triangles, "skip meshes with more triangles");
+  app.add_flag("--defaults", opt.with_defaults, "with files: run the default meshes too");
+  app.add_flag("--wall-clock", [&opt](std::int64_t) { opt.clock = TimeSource::kWall; },
+               "time with steady_clock instead of the thread's CPU time");
+  app.add_option("--csv", opt.csv, "write every row to FILE as CSV");
+  app.add_option("--plot", opt.plot,
+                 "draw the accuracy-time plot with gnuplot (benchmarks/tradeoff.gp); the plotted points are\n"
+                 "kept beside it as FILE.points.csv (FILE without its extension)")
+      ->check(fcl_rs::tools::kPlotFile);
+  app.callback([&app, &opt] {
+    if (!opt.quick) return;
+    if (app.count("--queries") == 0) opt.queries = kQuickQueries;
     opt.max_triangles = std::min(opt.max_triangles, kQuickMaxTriangles);
     opt.min_seconds = 0.02;
-  }
+  });
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -760,32 +722,19 @@ void printTable(const std::vector<Row>& rows)
                 us(r.us_first_separated).c_str(), r.disagreements);
 }
 
-std::string csvNum(double x)
-{
-  if (std::isnan(x)) return "";
-  std::ostringstream o;
-  o.precision(6);
-  o << x;
-  return o.str();
-}
-
 void writeCsv(const std::string& path, const std::vector<Row>& rows)
 {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path);
-  out << "mesh,triangles,bv,variant,path,nodes,bytes_per_node,build_ms,refit_ms,tight_median,tight_weighted,"
-         "tight_nodes,bv_tests,bv_tests_colliding,bv_tests_separated,bv_tests_first,fp_share,tri_tests,"
-         "us_all_colliding,us_all_separated,us_first_colliding,us_first_separated,us_all,us_first,"
-         "colliding_share,disagreements\n";
+  fcl_rs::tools::CsvWriter csv(
+      path, {"mesh", "triangles", "bv", "variant", "path", "nodes", "bytes_per_node", "build_ms", "refit_ms",
+             "tight_median", "tight_weighted", "tight_nodes", "bv_tests", "bv_tests_colliding", "bv_tests_separated",
+             "bv_tests_first", "fp_share", "tri_tests", "us_all_colliding", "us_all_separated", "us_first_colliding",
+             "us_first_separated", "us_all", "us_first", "colliding_share", "disagreements"});
   for (const Row& r : rows)
-    out << '"' << r.mesh << "\"," << r.tris << ',' << r.bv << ',' << r.variant << ',' << r.path << ',' << r.nodes
-        << ',' << r.node_bytes << ',' << csvNum(r.build_ms) << ',' << csvNum(r.refit_ms) << ','
-        << csvNum(r.tight.median) << ',' << csvNum(r.tight.weighted) << ',' << r.tight.nodes << ','
-        << csvNum(r.bv_tests) << ',' << csvNum(r.bv_tests_colliding) << ',' << csvNum(r.bv_tests_separated) << ','
-        << csvNum(r.bv_tests_first) << ',' << csvNum(r.fp_share) << ',' << csvNum(r.leaf_tests) << ','
-        << csvNum(r.us_all_colliding) << ',' << csvNum(r.us_all_separated) << ',' << csvNum(r.us_first_colliding)
-        << ',' << csvNum(r.us_first_separated) << ',' << csvNum(r.us_all) << ',' << csvNum(r.us_first) << ','
-        << csvNum(r.colliding) << ',' << r.disagreements << '\n';
+    csv.row({r.mesh, r.tris, r.bv, r.variant, r.path, r.nodes, r.node_bytes, r.build_ms, r.refit_ms, r.tight.median,
+             r.tight.weighted, r.tight.nodes, r.bv_tests, r.bv_tests_colliding, r.bv_tests_separated, r.bv_tests_first,
+             r.fp_share, r.leaf_tests, r.us_all_colliding, r.us_all_separated, r.us_first_colliding,
+             r.us_first_separated, r.us_all, r.us_first, r.colliding, r.disagreements});
+  csv.close();
 }
 
 /// Rows grouped by mesh, in run order.
@@ -928,72 +877,42 @@ Style styleOf(const std::string& label)
   return {color, point};
 }
 
-void writePlot(const std::string& path, const std::vector<Row>& rows, const Options& opt)
+/// Writes the plotted points (per type: one per mesh, ratios to OBBRSS on that mesh, then the median over the
+/// meshes) beside the plot and draws it with the static benchmarks/tradeoff.gp.
+void writePlot(const std::string& path, const std::vector<Row>& rows)
 {
   const auto groups = byMesh(rows);
-  const std::string script = path + ".gp";
-  std::ofstream gp(script);
-  if (!gp) throw std::runtime_error("cannot write " + script);
-  const bool svg = std::filesystem::path(path).extension() == ".svg";
-  gp << "# Written by fcl_rs_tradeoff" << (opt.quick ? " --quick" : "") << " (--queries " << opt.queries
-     << " --seed " << opt.seed << "); run: gnuplot " << std::filesystem::path(script).filename().string() << "\n";
-  gp << (svg ? "set terminal svg size 1280,560 dynamic font 'sans,11'\n"
-             : "set terminal pngcairo size 1600,700 font 'sans,11'\n");
-  gp << "set output '" << path << "'\n";
+  const std::string points = (std::filesystem::path(path).replace_extension().string()) + ".points.csv";
+  fcl_rs::tools::CsvWriter csv(points, {"label", "series", "kind", "x", "y", "fp_percent", "color", "point", "meshes"});
   const std::vector<std::string> names = labels(rows);
-  // Per type: one point per mesh (ratios to OBBRSS on that mesh), then the median over meshes.
   for (std::size_t s = 0; s < names.size(); ++s)
   {
-    gp << "$d" << s << " << EOD\n";
+    const Style st = styleOf(names[s]);
+    char color[16];
+    std::snprintf(color, sizeof color, "#%06x", st.color);
+    const auto point = [&](const char* kind, double x, double y, double fp) {
+      if (std::isfinite(x) && std::isfinite(y) && x > 0 && y > 0)
+        csv.row({names[s], s, kind, x, y, 100 * fp, color, st.point, groups.size()});
+    };
     for (const auto& g : groups)
       if (const Row* r = find(g, names[s]))
-      {
-        const double x = ratio(r->us_all, field(g, "OBBRSS", &Row::us_all));
-        const double y = ratio(r->bv_tests, field(g, "OBBRSS", &Row::bv_tests));
-        if (!std::isnan(x) && !std::isnan(y) && x > 0 && y > 0) gp << x << ' ' << y << ' ' << 100 * r->fp_share << '\n';
-      }
-    gp << "EOD\n";
+        point("mesh", ratio(r->us_all, field(g, "OBBRSS", &Row::us_all)),
+              ratio(r->bv_tests, field(g, "OBBRSS", &Row::bv_tests)), r->fp_share);
     const auto med = [&](double Row::*m) {
       return medianOver(groups, names[s], [&](const Row& r, const std::vector<const Row*>& g) {
         return ratio(r.*m, field(g, "OBBRSS", m));
       });
     };
-    const double mfp = medianOver(groups, names[s], [](const Row& r, const std::vector<const Row*>&) { return r.fp_share; });
-    gp << "$m" << s << " << EOD\n";
-    const double mx = med(&Row::us_all), my = med(&Row::bv_tests);
-    if (std::isfinite(mx) && std::isfinite(my) && mx > 0 && my > 0) gp << mx << ' ' << my << ' ' << 100 * mfp << '\n';
-    gp << "EOD\n";
+    point("median", med(&Row::us_all), med(&Row::bv_tests),
+          medianOver(groups, names[s], [](const Row& r, const std::vector<const Row*>&) { return r.fp_share; }));
   }
-  gp << "set multiplot layout 1,2 title 'fcl\\_rs\\_tradeoff: " << groups.size()
-     << " meshes, each against itself; small points = meshes, large = median; ratios to OBBRSS on the same mesh'\n";
-  gp << "set logscale xy\nset grid\nset key outside right top font ',9' spacing 0.9\n";
-  gp << "set xlabel 'us per exhaustive query / OBBRSS'\n";
-  const auto plotPanel = [&](const std::string& ycolumn, bool key) {
-    gp << "plot ";
-    for (std::size_t s = 0; s < names.size(); ++s)
-    {
-      const Style st = styleOf(names[s]);
-      char color[16];
-      std::snprintf(color, sizeof color, "#%06x", st.color);
-      gp << (s ? ", \\\n     " : "") << "$d" << s << " using 1:" << ycolumn << " with points pt " << st.point
-         << " ps 0.5 lc rgb '" << color << "' notitle, $m" << s << " using 1:" << ycolumn << " with points pt "
-         << st.point << " ps 2 lw 2 lc rgb '" << color << "' " << (key ? "title '" + names[s] + "'" : "notitle");
-    }
-    gp << "\n";
-  };
-  gp << "set ylabel 'BV tests per exhaustive query / OBBRSS'\nunset key\n";
-  plotPanel("2", false);
-  gp << "unset logscale y\nset ylabel 'false-positive share of BV tests (%)'\nset key outside right top\n";
-  plotPanel("3", true);
-  gp << "unset multiplot\n";
-  gp.close();
-  const std::string command = "gnuplot '" + script + "'";
-  const int rc = std::system(command.c_str());
-  if (rc != 0)
-    std::fprintf(stderr, "fcl_rs_tradeoff: '%s' failed (exit %d); the script is kept in %s\n", command.c_str(), rc,
-                 script.c_str());
+  csv.close();
+  const std::string error = fcl_rs::tools::runGnuplot(FCL_RS_TRADEOFF_PLOT_SCRIPT, points, path);
+  if (error.empty())
+    std::printf("plot written to %s (points in %s)\n", path.c_str(), points.c_str());
   else
-    std::printf("plot written to %s (gnuplot script %s)\n", path.c_str(), script.c_str());
+    std::fprintf(stderr, "fcl_rs_tradeoff: %s; plot %s not written (points in %s)\n", error.c_str(), path.c_str(),
+                 points.c_str());
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -1045,10 +964,12 @@ std::vector<Row> runMesh(const NamedMesh& input, std::size_t index, const Option
 int main(int argc, char** argv)
 {
   Options opt;
+  CLI::App app(description(), "fcl_rs_tradeoff");
+  addOptions(app, opt);
+  if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
   std::vector<std::pair<std::string, std::string>> files;  // (name, path)
   try
   {
-    parseOptions(argc, argv, opt);
     for (const auto& f : opt.files) files.emplace_back(baseName(f), f);
     if (opt.files.empty() || opt.with_defaults)
       for (const auto& f : defaultFiles()) files.push_back(f);
@@ -1056,7 +977,7 @@ int main(int argc, char** argv)
   catch (const std::exception& e)
   {
     std::fprintf(stderr, "fcl_rs_tradeoff: %s\n", e.what());
-    return 2;
+    return 1;
   }
 
   // Meshes are loaded one at a time, so that only one large mesh is in memory.
@@ -1129,7 +1050,7 @@ int main(int argc, char** argv)
       writeCsv(opt.csv, rows);
       std::printf("CSV written to %s\n", opt.csv.c_str());
     }
-    if (!opt.plot.empty()) writePlot(opt.plot, rows, opt);
+    if (!opt.plot.empty()) writePlot(opt.plot, rows);
   }
   catch (const std::exception& e)
   {

@@ -1,6 +1,5 @@
 // fcl_rs_selfcheck: self-collision of a URDF robot at random configurations, per BV type, with timings.
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <iomanip>
@@ -13,26 +12,17 @@
 
 #include <fcl_rs/robot.h>
 
+#include "common/command_line.h"
+
 namespace {
 
-const char* kUsage = R"(usage: fcl_rs_selfcheck ROBOT.urdf [options]
-
-Checks the robot for self-collision at random joint configurations drawn uniformly within the joint limits
+const char* kDescription = R"(Checks the robot for self-collision at random joint configurations drawn uniformly within the joint limits
 (continuous joints in [-pi, pi]) and reports the colliding link pairs, the share of configurations in
 self-collision and the time per full check (forward kinematics plus every tested pair; one timed pass after
 the first, so the trees are in cache; fcl_rs_bench_selfcheck compares BV types' times with more care).
 
 Pairs tested: every two links with collision geometry, except adjacent links (a link and its nearest
 ancestor with geometry) and the SRDF's <disable_collisions> pairs.
-
-options:
-  --srdf FILE     skip the SRDF's disable_collisions pairs (without it only adjacent pairs are skipped)
-  --configs N     number of random configurations (default 1000)
-  --bv TYPE       RS, OBBRSS, OBB, RSS, KDOP18, or all (default RS); with all, every type checks the same
-                  configurations and the command fails if two types report different pairs
-  --seed N        seed of the random configurations (default 1)
-  --list          print every configuration that is in self-collision with its colliding pairs
-  --help          this text
 )";
 
 struct Options
@@ -44,65 +34,40 @@ struct Options
   bool list = false;
 };
 
-[[noreturn]] void usageError(const std::string& what)
+/// The BV types --bv names: one type, or all of them.
+std::vector<fcl_rs::BVType> bvTypes(const std::string& name)
 {
-  std::cerr << "fcl_rs_selfcheck: " << what << "\n(--help shows the usage)\n";
-  std::exit(2);
+  if (name == "all" || name == "ALL") return {fcl_rs::kRobotBVTypes.begin(), fcl_rs::kRobotBVTypes.end()};
+  return {fcl_rs::parseBVType(name)};
 }
 
-long long toInteger(const std::string& option, const std::string& text, long long min, long long max)
+void addOptions(CLI::App& app, Options& o)
 {
-  char* end = nullptr;
-  errno = 0;
-  const long long v = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || errno != 0 || v < min || v > max)
-    usageError(option + " needs an integer from " + std::to_string(min) + " to " + std::to_string(max) + ", got '" +
-               text + "'");
-  return v;
-}
-
-Options parse(int argc, char** argv)
-{
-  Options o;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) usageError(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--help" || a == "-h")
-    {
-      std::cout << kUsage;
-      std::exit(0);
-    }
-    else if (a == "--srdf") o.srdf = value();
-    else if (a == "--configs") o.configs = int(toInteger(a, value(), 1, 100000000));
-    else if (a == "--seed") o.seed = (unsigned long long)toInteger(a, value(), 0, std::numeric_limits<long long>::max());
-    else if (a == "--list") o.list = true;
-    else if (a == "--bv")
-    {
-      const std::string v = value();
-      if (v == "all" || v == "ALL")
-        o.bvs.assign(fcl_rs::kRobotBVTypes.begin(), fcl_rs::kRobotBVTypes.end());
-      else
-      {
-        try
-        {
-          o.bvs = {fcl_rs::parseBVType(v)};
-        }
-        catch (const std::exception& e)
-        {
-          usageError(e.what());
-        }
-      }
-    }
-    else if (!a.empty() && a[0] == '-') usageError("unknown option " + a);
-    else if (o.urdf.empty()) o.urdf = a;
-    else usageError("more than one URDF file given ('" + o.urdf + "', '" + a + "')");
-  }
-  if (o.urdf.empty()) usageError("no URDF file given");
-  return o;
+  app.add_option("urdf", o.urdf, "ROBOT.urdf: the robot")->required()->check(CLI::ExistingFile);
+  app.add_option("--srdf", o.srdf, "skip the SRDF's disable_collisions pairs (without it only adjacent pairs are skipped)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--configs", o.configs, "number of random configurations")
+      ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--bv", [&o](const std::string& name) { o.bvs = bvTypes(name); },
+         "RS, OBBRSS, OBB, RSS, KDOP18, or all (default RS); with all, every type checks the same\n"
+         "configurations and the command fails if two types report different pairs")
+      ->check(CLI::Validator(
+          [](std::string& name) -> std::string {
+            try
+            {
+              bvTypes(name);
+              return "";
+            }
+            catch (const std::exception& e)
+            {
+              return e.what();
+            }
+          },
+          "TYPE"));
+  app.add_option("--seed", o.seed, "seed of the random configurations")->capture_default_str();
+  app.add_flag("--list", o.list, "print every configuration that is in self-collision with its colliding pairs");
 }
 
 std::string pairName(const fcl_rs::RobotModel& robot, const fcl_rs::LinkPair& p)
@@ -197,7 +162,10 @@ int run(const Options& o)
 
 int main(int argc, char** argv)
 {
-  const Options options = parse(argc, argv);
+  Options options;
+  CLI::App app(kDescription, "fcl_rs_selfcheck");
+  addOptions(app, options);
+  if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
   try
   {
     return run(options);

@@ -6,7 +6,7 @@
 // fresh simulation with the scene's seed, so they see identical frames and must report identical pair
 // counts (the "pairs/frame" column is the quality check). Times are CPU times; frames/s = frames / CPU time.
 //
-// Options besides Google Benchmark's: --scene=FILE, --data=DIR (mesh directory), --frames=N.
+// Options besides Google Benchmark's: --scene FILE, --data DIR (mesh directory), --frames N (see --help).
 
 #include <fcl_rs/collide.h>
 #include <fcl_rs/bvh/build_model.h>
@@ -21,9 +21,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include "common/command_line.h"
+
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -33,6 +33,7 @@
 namespace {
 
 using S = double;
+using fcl_rs::tools::kUsageError;
 using Simulator = fcl_rs::NBodySimulator<S>;
 
 std::string g_scene = FCL_RS_SCENES_DIR "/mixed20.json";
@@ -152,39 +153,25 @@ public:
   }
 };
 
-/// Removes --name=VALUE from argv and stores VALUE; true if found.
-bool takeOption(int& argc, char** argv, const char* name, std::string& value)
-{
-  const std::size_t n = std::strlen(name);
-  for (int i = 1; i < argc; ++i)
-    if (std::strncmp(argv[i], name, n) == 0 && argv[i][n] == '=')
-    {
-      value = argv[i] + n + 1;
-      for (int j = i; j + 1 < argc; ++j) argv[j] = argv[j + 1];
-      --argc;
-      return true;
-    }
-  return false;
-}
-
 }  // namespace
 
 int main(int argc, char** argv)
 {
-  std::string frames;
-  takeOption(argc, argv, "--scene", g_scene);
-  takeOption(argc, argv, "--data", g_data);
-  if (takeOption(argc, argv, "--frames", frames))
-  {
-    g_frames = std::atoi(frames.c_str());
-    if (g_frames < 1)
-    {
-      std::fprintf(stderr, "fcl_rs_bench_scene: --frames needs a positive integer, got '%s'\n", frames.c_str());
-      return 1;
-    }
-  }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  CLI::App app("Frames per second of an n-body scene per root bounding-volume test and for the exact check\n"
+               "(RS trees against FCL's OBB and OBBRSS trees on the same frames). Google Benchmark's own options\n"
+               "(--benchmark_filter=..., --benchmark_format=...) pass through.",
+               "fcl_rs_bench_scene");
+  app.add_option("--scene", g_scene, "scene file")->check(CLI::ExistingFile)->capture_default_str();
+  app.add_option("--data", g_data, "directory the scene's mesh paths are relative to")->capture_default_str();
+  app.add_option("--frames", g_frames, "frames per benchmark")->check(CLI::Range(1, 100000000))->capture_default_str();
+  app.allow_extras();
+  if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
+  std::vector<std::string> rest = app.remaining();
+  std::vector<char*> benchmark_argv = {argv[0]};
+  for (std::string& arg : rest) benchmark_argv.push_back(arg.data());
+  int benchmark_argc = int(benchmark_argv.size());
+  benchmark::Initialize(&benchmark_argc, benchmark_argv.data());
+  if (benchmark::ReportUnrecognizedArguments(benchmark_argc, benchmark_argv.data())) return kUsageError;
   if (!std::filesystem::is_directory(g_data))
   {
     std::fprintf(stderr, "fcl_rs_bench_scene: mesh directory %s is absent (--data=DIR); nothing to measure\n",

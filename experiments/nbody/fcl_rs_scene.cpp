@@ -3,16 +3,20 @@
 #include "nbody/nbody.h"
 #include "nbody/scene.h"
 
+#include "common/command_line.h"
+#include "common/csv_writer.h"
+#include "common/gnuplot.h"
+
 #include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
+#include <cstdint>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -29,143 +33,39 @@ struct Options
   bool progress = true;
 };
 
-const char* kUsage =
-    "usage: fcl_rs_scene SCENE.json [--frames N] [--csv FILE] [--plot FILE.svg|FILE.png] [--data DIR] [--quiet]\n"
-    "\n"
+const char* kDescription =
     "Runs the scene's rigid motion and counts, every frame, the body pairs whose root bounding volumes\n"
     "overlap (bounding sphere, AABB and KDOP18 refitted to the moved meshes, OBB and RS moved with them;\n"
     "variants: KDOP18 realigned from the body's own 18-DOP, RS with the paper's one-sided test) and the\n"
-    "pairs whose meshes intersect (FCL broadphase + RS trees). Prints a summary table against the paper.\n"
-    "\n"
-    "  --frames N   number of frames (default: the scene's)\n"
-    "  --csv FILE   write one row per frame: pairs and CPU seconds per test\n"
-    "  --plot FILE  plot the counts per frame with gnuplot (SVG or PNG, by extension)\n"
-    "  --data DIR   directory mesh paths in the scene are relative to (default: " FCL_RS_SHARED_DATA_DIR "/models)\n"
-    "  --quiet      no progress display\n";
+    "pairs whose meshes intersect (FCL broadphase + RS trees). Prints a summary table against the paper.\n";
 
-Options parseOptions(int argc, char** argv)
+void addOptions(CLI::App& app, Options& opt)
 {
-  Options opt;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string arg = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "--help" || arg == "-h")
-    {
-      std::cout << kUsage;
-      std::exit(0);
-    }
-    else if (arg == "--frames")
-    {
-      const std::string v = value();
-      char* end = nullptr;
-      const long n = std::strtol(v.c_str(), &end, 10);
-      if (v.empty() || *end || n < 1 || n > 100000000) throw std::invalid_argument("--frames needs a positive integer, got '" + v + "'");
-      opt.frames = int(n);
-    }
-    else if (arg == "--csv")
-      opt.csv = value();
-    else if (arg == "--plot")
-      opt.plot = value();
-    else if (arg == "--data")
-      opt.data = value();
-    else if (arg == "--quiet")
-      opt.progress = false;
-    else if (!arg.empty() && arg[0] == '-')
-      throw std::invalid_argument("unknown option " + arg);
-    else if (opt.scene.empty())
-      opt.scene = arg;
-    else
-      throw std::invalid_argument("more than one scene file given ('" + opt.scene + "', '" + arg + "')");
-  }
-  if (opt.scene.empty()) throw std::invalid_argument("no scene file given");
-  if (!opt.plot.empty())
-  {
-    const std::string ext = std::filesystem::path(opt.plot).extension().string();
-    if (ext != ".svg" && ext != ".png") throw std::invalid_argument("--plot file must end in .svg or .png: " + opt.plot);
-  }
-  return opt;
+  app.add_option("scene", opt.scene, "SCENE.json: the scene file")->required()->check(CLI::ExistingFile);
+  app.add_option("--frames", opt.frames, "number of frames (default: the scene's)")->check(CLI::Range(1, 100000000));
+  app.add_option("--csv", opt.csv, "write one row per frame: pairs and CPU seconds per test");
+  app.add_option("--plot", opt.plot, "plot the counts per frame with gnuplot (SVG or PNG, by extension)")
+      ->check(fcl_rs::tools::kPlotFile);
+  app.add_option("--data", opt.data, "directory mesh paths in the scene are relative to")
+      ->check(CLI::ExistingDirectory)
+      ->capture_default_str();
+  app.add_flag("--quiet", [&opt](std::int64_t) { opt.progress = false; }, "no progress display");
 }
 
-void writeCsvHeader(std::ostream& out)
+std::vector<std::string> csvColumns()
 {
-  out << "frame,time";
-  for (fcl_rs::PairTest t : fcl_rs::kPairTests) out << ',' << fcl_rs::pairTestName(t);
-  for (fcl_rs::PairTest t : fcl_rs::kPairTests) out << ',' << fcl_rs::pairTestName(t) << "_seconds";
-  out << '\n';
+  std::vector<std::string> columns = {"frame", "time"};
+  for (fcl_rs::PairTest t : fcl_rs::kPairTests) columns.push_back(fcl_rs::pairTestName(t));
+  for (fcl_rs::PairTest t : fcl_rs::kPairTests) columns.push_back(std::string(fcl_rs::pairTestName(t)) + "_seconds");
+  return columns;
 }
 
-void writeCsvRow(std::ostream& out, const fcl_rs::FrameRecord& r, double time)
+void writeCsvRow(fcl_rs::tools::CsvWriter& csv, const fcl_rs::FrameRecord& r, double time)
 {
-  out << r.frame << ',' << time;
-  for (int c : r.count) out << ',' << c;
-  char buf[32];
-  for (double s : r.seconds)
-  {
-    std::snprintf(buf, sizeof buf, ",%.3e", s);
-    out << buf;
-  }
-  out << '\n';
-}
-
-/// A single-quoted gnuplot string.
-std::string quoted(const std::string& s)
-{
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("''") : std::string(1, c);
-  return q + "'";
-}
-
-/// Counts per frame, one line per test (the exact count in black), like the paper's Figs. 6-9.
-bool plot(const std::string& csv, const std::string& file, const std::string& title)
-{
-  if (std::system("gnuplot --version > /dev/null 2>&1") != 0)
-  {
-    std::cerr << "fcl_rs_scene: gnuplot not found (Debian: gnuplot-nox); plot " << file << " not written\n";
-    return false;
-  }
-  struct Line
-  {
-    fcl_rs::PairTest test;
-    const char* title;
-    const char* style;
-  };
-  // The paper's volumes and the exact count; the variants are in the CSV only (the plot is busy enough).
-  const Line lines[] = {
-      {fcl_rs::PairTest::kSphere, "bounding sphere", "lw 1 lc rgb '#1f77b4'"},
-      {fcl_rs::PairTest::kAABB, "AABB", "lw 1 lc rgb '#ff7f0e'"},
-      {fcl_rs::PairTest::kOBB, "OBB", "lw 1 lc rgb '#2ca02c'"},
-      {fcl_rs::PairTest::kKDOP18, "KDOP18", "lw 1 lc rgb '#9467bd'"},
-      {fcl_rs::PairTest::kRS, "RS", "lw 1.5 lc rgb '#d62728'"},
-      {fcl_rs::PairTest::kExact, "exact (meshes intersect)", "lw 1.5 lc rgb '#000000'"},
-  };
-  const bool svg = std::filesystem::path(file).extension() == ".svg";
-  const std::string script = file + ".gnuplot";
-  {
-    std::ofstream g(script);
-    g << (svg ? "set terminal svg size 1200,500 dynamic font 'sans,12' background '#ffffff'\n"
-              : "set terminal pngcairo size 1500,625 font 'sans,12'\n")
-      << "set output " << quoted(file) << "\n"
-      << "set datafile separator ','\n"
-      << "set key autotitle columnhead top left horizontal\n"
-      << "set title " << quoted(title) << " noenhanced\n"
-      << "set xlabel 'frame'\nset ylabel 'colliding pairs reported'\nset grid\nset yrange [0:*]\nset offsets 0, 0, graph 0.12, 0\nplot ";
-    for (const Line& l : lines)
-      g << (&l == lines ? quoted(csv) : std::string(", \\\n  ''")) << " using 1:" << 3 + int(l.test)
-        << " with lines " << l.style << " title " << quoted(l.title);
-    g << "\n";
-  }
-  const int rc = std::system(("gnuplot " + quoted(script) + " 2>&1").c_str());
-  std::filesystem::remove(script);
-  if (rc != 0)
-  {
-    std::cerr << "fcl_rs_scene: gnuplot failed (status " << rc << "); plot " << file << " not written\n";
-    return false;
-  }
-  return true;
+  std::vector<fcl_rs::tools::CsvWriter::Cell> cells = {r.frame, time};
+  for (int c : r.count) cells.emplace_back(c);
+  for (double s : r.seconds) cells.emplace_back(s);
+  csv.row(cells);
 }
 
 std::string percent(double v)
@@ -212,18 +112,17 @@ int run(const Options& opt)
   std::fprintf(stderr, "fcl_rs_scene: '%s': %d bodies loaded in %.1f s\n", scene.name.c_str(), sim.numBodies(),
                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 
-  // The plot reads the CSV; without --csv it goes to a temporary file.
-  std::string csv = opt.csv;
-  const bool temporary_csv = csv.empty() && !opt.plot.empty();
-  if (temporary_csv)
-    csv = (std::filesystem::temp_directory_path() / ("fcl_rs_scene_" + std::to_string(getpid()) + ".csv")).string();
-  std::ofstream out;
-  if (!csv.empty())
+  // The plot reads the CSV; without --csv it goes to a temporary one named after the scene (the plot's title).
+  std::string csv_path = opt.csv;
+  std::filesystem::path temporary_dir;
+  if (csv_path.empty() && !opt.plot.empty())
   {
-    out.open(csv);
-    if (!out) throw std::runtime_error("cannot write CSV file '" + csv + "'");
-    writeCsvHeader(out);
+    temporary_dir = std::filesystem::temp_directory_path() / ("fcl_rs_scene_" + std::to_string(getpid()));
+    std::filesystem::create_directories(temporary_dir);
+    csv_path = (temporary_dir / (scene.name + ".csv")).string();
   }
+  std::optional<fcl_rs::tools::CsvWriter> csv;
+  if (!csv_path.empty()) csv.emplace(csv_path, csvColumns());
 
   const bool tty = isatty(2);
   std::vector<fcl_rs::FrameRecord> records;
@@ -231,7 +130,7 @@ int run(const Options& opt)
   for (int f = 0; f < scene.frames; ++f)
   {
     records.push_back(sim.record());
-    if (out.is_open()) writeCsvRow(out, records.back(), f * scene.time_step);
+    if (csv) writeCsvRow(*csv, records.back(), f * scene.time_step);
     sim.step();
     const auto now = std::chrono::steady_clock::now();
     const bool last_frame = f + 1 == scene.frames;
@@ -249,19 +148,20 @@ int run(const Options& opt)
       if (tty && last_frame) std::fprintf(stderr, "\n");
     }
   }
-  if (out.is_open())
+  if (csv)
   {
-    out.close();
-    if (!out) throw std::runtime_error("error writing CSV file '" + csv + "'");
-    if (!temporary_csv) std::fprintf(stderr, "fcl_rs_scene: CSV written to %s\n", csv.c_str());
+    csv->close();
+    if (temporary_dir.empty()) std::fprintf(stderr, "fcl_rs_scene: CSV written to %s\n", csv_path.c_str());
   }
   if (!opt.plot.empty())
   {
-    const std::string title = "Collisions reported per frame: " + scene.name + " (" + std::to_string(sim.numBodies()) +
-                              " bodies, " + std::to_string(scene.frames) + " frames)";
-    if (plot(csv, opt.plot, title)) std::fprintf(stderr, "fcl_rs_scene: plot written to %s\n", opt.plot.c_str());
-    if (temporary_csv) std::filesystem::remove(csv);
+    const std::string error = fcl_rs::tools::runGnuplot(FCL_RS_SCENE_PLOT_SCRIPT, csv_path, opt.plot);
+    if (error.empty())
+      std::fprintf(stderr, "fcl_rs_scene: plot written to %s\n", opt.plot.c_str());
+    else
+      std::fprintf(stderr, "fcl_rs_scene: %s; plot %s not written\n", error.c_str(), opt.plot.c_str());
   }
+  if (!temporary_dir.empty()) std::filesystem::remove_all(temporary_dir);
   printSummary(scene, fcl_rs::summarize(records), sim.numBodies());
   return 0;
 }
@@ -271,15 +171,9 @@ int run(const Options& opt)
 int main(int argc, char** argv)
 {
   Options opt;
-  try
-  {
-    opt = parseOptions(argc, argv);
-  }
-  catch (const std::exception& e)
-  {
-    std::cerr << "fcl_rs_scene: " << e.what() << "\n\n" << kUsage;
-    return 2;
-  }
+  CLI::App app(kDescription, "fcl_rs_scene");
+  addOptions(app, opt);
+  if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
   try
   {
     return run(opt);

@@ -1,0 +1,97 @@
+#include "coal_peer.h"
+
+#include <coal/BV/OBB.h>
+#include <coal/BV/OBBRSS.h>
+#include <coal/BV/RSS.h>
+#include <coal/BV/kIOS.h>
+#include <coal/BVH/BVH_model.h>
+#include <coal/collision.h>
+#include <coal/config.hh>
+#include <coal/distance.h>
+
+#include <stdexcept>
+
+namespace fcl_rs {
+namespace bench {
+
+namespace {
+
+template <typename BV>
+std::shared_ptr<coal::BVHModelBase> build(const std::vector<fcl::Vector3d>& vertices,
+                                          const std::vector<fcl::Triangle>& triangles)
+{
+  std::vector<coal::Vec3s> points(vertices.begin(), vertices.end());
+  std::vector<coal::Triangle> faces;
+  faces.reserve(triangles.size());
+  for (const fcl::Triangle& t : triangles) faces.emplace_back(t[0], t[1], t[2]);
+  auto model = std::make_shared<coal::BVHModel<BV>>();
+  if (model->beginModel(static_cast<unsigned>(faces.size()), static_cast<unsigned>(points.size())) != coal::BVH_OK ||
+      model->addSubModel(points, faces) != coal::BVH_OK || model->endModel() != coal::BVH_OK)
+    throw std::runtime_error("Coal could not build a tree of the mesh");
+  return model;
+}
+
+std::shared_ptr<coal::BVHModelBase> build(CoalBV bv, const std::vector<fcl::Vector3d>& vertices,
+                                          const std::vector<fcl::Triangle>& triangles)
+{
+  switch (bv)
+  {
+    case CoalBV::kOBB: return build<coal::OBB>(vertices, triangles);
+    case CoalBV::kRSS: return build<coal::RSS>(vertices, triangles);
+    case CoalBV::kOBBRSS: return build<coal::OBBRSS>(vertices, triangles);
+    case CoalBV::kIOS: return build<coal::kIOS>(vertices, triangles);
+  }
+  throw std::logic_error("unknown Coal BV type");
+}
+
+coal::Transform3s toCoal(const fcl::Transform3d& tf) { return coal::Transform3s(tf.linear(), tf.translation()); }
+
+}  // namespace
+
+std::string coalName(CoalBV bv)
+{
+  switch (bv)
+  {
+    case CoalBV::kOBB: return "Coal OBB";
+    case CoalBV::kRSS: return "Coal RSS";
+    case CoalBV::kOBBRSS: return "Coal OBBRSS";
+    case CoalBV::kIOS: return "Coal kIOS";
+  }
+  return "Coal ?";
+}
+
+std::string coalVersion() { return COAL_VERSION; }
+
+struct CoalMeshPair::Trees
+{
+  std::shared_ptr<coal::BVHModelBase> a, b;
+};
+
+CoalMeshPair::CoalMeshPair(CoalBV bv, const std::vector<fcl::Vector3d>& vertices_a,
+                           const std::vector<fcl::Triangle>& triangles_a, const std::vector<fcl::Vector3d>& vertices_b,
+                           const std::vector<fcl::Triangle>& triangles_b)
+  : trees_(new Trees{build(bv, vertices_a, triangles_a), build(bv, vertices_b, triangles_b)})
+{
+}
+
+CoalMeshPair::~CoalMeshPair() = default;
+
+std::size_t CoalMeshPair::collide(const fcl::Transform3d& tf_a, const fcl::Transform3d& tf_b,
+                                  std::size_t max_contacts) const
+{
+  coal::CollisionRequest request(coal::NO_REQUEST, max_contacts);
+  request.security_margin = 0;
+  request.break_distance = 0;
+  coal::CollisionResult result;
+  return coal::collide(trees_->a.get(), toCoal(tf_a), trees_->b.get(), toCoal(tf_b), request, result);
+}
+
+double CoalMeshPair::distance(const fcl::Transform3d& tf_a, const fcl::Transform3d& tf_b) const
+{
+  const coal::DistanceRequest request(/*enable_nearest_points=*/true, /*enable_signed_distance=*/true, 0, 0);
+  coal::DistanceResult result;
+  return coal::distance(trees_->a.get(), toCoal(tf_a), trees_->b.get(), toCoal(tf_b), request, result);
+}
+
+}  // namespace bench
+}  // namespace fcl_rs

@@ -1,0 +1,59 @@
+// Coal 3.0 (coal-library/coal, FCL's most maintained fork) as a peer in the benchmarks: trees built once per
+// mesh, queried with the requests that ask Coal the question FCL's benchmark rows ask FCL. Its own translation
+// unit (coal_peer.cpp), built only with FCL_RS_WITH_COAL, so that the benchmarks compile without Coal and
+// include neither library's headers twice over.
+#ifndef FCL_RS_BENCHMARKS_COAL_PEER_H
+#define FCL_RS_BENCHMARKS_COAL_PEER_H
+
+#include <fcl/math/geometry.h>
+#include <fcl/math/triangle.h>
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fcl_rs {
+namespace bench {
+
+enum class CoalBV
+{
+  kOBB,
+  kRSS,
+  kOBBRSS,
+  kIOS,
+};
+
+/// "Coal OBB", "Coal RSS", ... as the tables print them.
+std::string coalName(CoalBV bv);
+
+/// The version Coal's headers report, e.g. "3.0.0".
+std::string coalVersion();
+
+/// Two meshes as Coal trees of one BV type, in their own frames (Coal's mean split, as FCL's).
+class CoalMeshPair
+{
+public:
+  CoalMeshPair(CoalBV bv, const std::vector<fcl::Vector3d>& vertices_a, const std::vector<fcl::Triangle>& triangles_a,
+               const std::vector<fcl::Vector3d>& vertices_b, const std::vector<fcl::Triangle>& triangles_b);
+  ~CoalMeshPair();
+  CoalMeshPair(const CoalMeshPair&) = delete;
+  CoalMeshPair& operator=(const CoalMeshPair&) = delete;
+
+  /// Contacts found with coal::CollisionRequest(NO_REQUEST, max_contacts), security_margin = break_distance = 0:
+  /// the question fcl::CollisionRequest(max_contacts, enable_contact = false) asks (Coal's default break
+  /// distance of 1e-3 would descend into boxes up to 1 mm apart).
+  std::size_t collide(const fcl::Transform3d& tf_a, const fcl::Transform3d& tf_b, std::size_t max_contacts) const;
+
+  /// Distance with nearest points and rel_err = abs_err = 0 (exact); 0 or below when the meshes intersect.
+  double distance(const fcl::Transform3d& tf_a, const fcl::Transform3d& tf_b) const;
+
+private:
+  struct Trees;
+  std::unique_ptr<Trees> trees_;
+};
+
+}  // namespace bench
+}  // namespace fcl_rs
+
+#endif
