@@ -79,8 +79,7 @@ BoxCut boxCut(const RS<S>& bv)
   shape.center = axis * mid + origin;
   for (int k = 3; k < kNumSlabs; ++k)
   {
-    const SlabDirection& d = kSlabDirections[std::size_t(k)];
-    const Eigen::Vector3d n = (axis.col(d.i) + double(d.sign) * axis.col(d.j)) * M_SQRT1_2;
+    const Eigen::Vector3d n = detail::slabOfColumns<double>(axis, k);  // slab k's unit direction, model coordinates
     shape.cuts.push_back({n, double(bv.hi[k]) + n.dot(origin)});
     shape.cuts.push_back({-n, -double(bv.lo[k]) - n.dot(origin)});
   }
