@@ -1,10 +1,6 @@
 // fcl_rs_export: the volumes of one tree level (or the leaves under one node) of any BV types, with the mesh,
 // as a file viewers open (glTF, OBJ, PLY, COLLADA) and as a picture drawn by gnuplot (one panel per type).
-#include <spawn.h>
-#include <sys/wait.h>
-
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -13,13 +9,11 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "fcl_rs/export/export_volumes.h"
 #include "fcl_rs/mesh/load_mesh.h"
 #include "fcl_rs/mesh/shapes.h"
-
-extern char** environ;
+#include "common/command_line.h"
+#include "common/gnuplot.h"
 
 namespace {
 
@@ -121,20 +115,11 @@ void render(const std::vector<VolumeSet>& sets, const std::string& script, const
       }
     }
   }
-  std::vector<std::string> args = {"gnuplot", "-c", script, mesh_file, volume_file, panel_file, colour_file, png};
+  std::vector<std::string> args = {mesh_file, volume_file, panel_file, colour_file, png};
   if (!svg.empty()) args.push_back(svg);
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawn_error = posix_spawnp(&pid, "gnuplot", nullptr, nullptr, argv.data(), environ);
-  int status = 0;
-  if (spawn_error == 0) waitpid(pid, &status, 0);
+  const std::string failure = fcl_rs::tools::runGnuplot(script, args);
   for (const auto& f : {mesh_file, volume_file, panel_file, colour_file}) std::remove(f.c_str());
-  if (spawn_error != 0)
-    throw std::runtime_error("cannot run gnuplot (Debian: gnuplot-nox): " + std::string(std::strerror(spawn_error)));
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    throw std::runtime_error("gnuplot failed on '" + script + "'; " + png + " not written");
+  if (!failure.empty()) throw std::runtime_error(failure + "; " + png + " not written");
 }
 
 struct Job
@@ -191,12 +176,13 @@ int main(int argc, char** argv)
   app.add_option("--paper", paper, "redraw the paper's Figs. 2 and 9 into this directory");
   app.add_option("--dragon", dragon, "with --paper: the Stanford dragon mesh for Fig. 2");
   app.add_option("--script", script, "the gnuplot script")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
 
   try
   {
     if (!paper.empty())
     {
+      std::filesystem::create_directories(paper);
       // Fig. 9: the paper's 467-vertex sphere; the sphere panel is kIOS (one sphere on a round node, cut by its OBB).
       Job sphere;
       sphere.mesh = fcl_rs::makePoleQuadSphere<double>(1);

@@ -16,11 +16,12 @@ extern char** environ;
 namespace fcl_rs {
 namespace tools {
 
-/// Runs gnuplot on script with data and output as its ARG1 and ARG2. Returns "" on success, else what failed
+/// Runs gnuplot on script with script_args as its ARG1, ARG2, ... Returns "" on success, else what failed
 /// (gnuplot missing, or its exit status; gnuplot's own messages go to stderr).
-inline std::string runGnuplot(const std::string& script, const std::string& data, const std::string& output)
+inline std::string runGnuplot(const std::string& script, const std::vector<std::string>& script_args)
 {
-  std::vector<std::string> args = {"gnuplot", "-c", script, data, output};
+  std::vector<std::string> args = {"gnuplot", "-c", script};
+  args.insert(args.end(), script_args.begin(), script_args.end());
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -33,6 +34,12 @@ inline std::string runGnuplot(const std::string& script, const std::string& data
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
   if (WIFEXITED(status)) return "gnuplot exited with status " + std::to_string(WEXITSTATUS(status));
   return "gnuplot ended by signal " + std::to_string(WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+/// The usual case: data and output as ARG1 and ARG2.
+inline std::string runGnuplot(const std::string& script, const std::string& data, const std::string& output)
+{
+  return runGnuplot(script, std::vector<std::string>{data, output});
 }
 
 }  // namespace tools
