@@ -161,7 +161,7 @@ void checkManager()
     EXPECT_TRUE(closeDistances(d, d_ref, S(1))) << "minimum distance: RS " << d << ", OBBRSS " << d_ref;
     // Not the converse: at grazing poses FCL's triangle distance can round to 0 where its intersection test
     // finds no contact (seen in float, for RS and OBBRSS alike).
-    if (!rs_contacts.empty()) EXPECT_LE(d, 0);
+    if (!rs_contacts.empty()) { EXPECT_LE(d, 0); }
     (rs_contacts.empty() ? free_scenes : colliding_scenes)++;
   }
   std::cout << "[distance] broadphase " << what << " (" << scalarName<S>() << "): 10 scenes, " << colliding_scenes
