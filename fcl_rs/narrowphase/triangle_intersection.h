@@ -18,6 +18,7 @@
 #include <cmath>
 #include <limits>
 
+#include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/math/bv/AABB.h>
 #include <fcl/narrowphase/collision_request.h>
 #include <fcl/narrowphase/collision_result.h>
