@@ -33,6 +33,8 @@ namespace {
 using fcl_rs::TriangleMesh;
 using fcl_rs::test::ExactTriangle;
 using fcl_rs::test::TrianglePairs;
+using fcl_rs::test::needle;
+using fcl_rs::test::plate;
 
 constexpr std::size_t kAllContacts = 1000000;
 
@@ -68,17 +70,6 @@ TriangleMesh<S> collapsedPoleSphere(int stacks = 8, int slices = 12)
   return m;
 }
 
-/// Collinear vertices along x: every triangle is a segment.
-template <typename S>
-TriangleMesh<S> needle(int n = 10)
-{
-  TriangleMesh<S> m;
-  for (int i = 0; i < n; ++i) m.vertices.emplace_back(S(i) / S(n - 1) - S(0.5), 0, 0);
-  for (int i = 0; i + 2 < n; ++i) m.triangles.emplace_back(i, i + 1, i + 2);
-  m.triangles.emplace_back(0, std::size_t(n - 1), std::size_t(n / 2));
-  return m;
-}
-
 /// A box with every triangle listed twice, plus point triangles (i, i, i) and edge triangles (i, i, j).
 template <typename S>
 TriangleMesh<S> duplicatedBox()
@@ -91,23 +82,6 @@ TriangleMesh<S> duplicatedBox()
     m.triangles.emplace_back(i, i, i);
     m.triangles.emplace_back(i, i, (i + 3) % m.vertices.size());
   }
-  return m;
-}
-
-/// n x n grid in z = 0: coplanar triangles.
-template <typename S>
-TriangleMesh<S> plate(int n = 5)
-{
-  TriangleMesh<S> m;
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; j <= n; ++j) m.vertices.emplace_back(S(i) / S(n) - S(0.5), S(j) / S(n) - S(0.5), 0);
-  const auto at = [n](int i, int j) { return std::size_t(i * (n + 1) + j); };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-    {
-      m.triangles.emplace_back(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      m.triangles.emplace_back(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
   return m;
 }
 
@@ -374,14 +348,14 @@ TYPED_TEST(TriangleIntersection, CollapsedPoleSphereAgainstSphereAndNeedle)
 {
   using S = TypeParam;
   runScene<S>("collapsed-pole sphere vs sphere", collapsedPoleSphere<S>(), collapsedPoleSphere<S>(6, 9), 4, 3);
-  runScene<S>("collapsed-pole sphere vs needle", collapsedPoleSphere<S>(), needle<S>(), 4, 3);
+  runScene<S>("collapsed-pole sphere vs needle", collapsedPoleSphere<S>(), needle<S>(10), 4, 3);
 }
 
 TYPED_TEST(TriangleIntersection, NeedlesAndPointTriangles)
 {
   using S = TypeParam;
-  runScene<S>("needle vs needle", needle<S>(), needle<S>(7), 6, 4);
-  runScene<S>("duplicated box vs needle", duplicatedBox<S>(), needle<S>(), 4, 3);
+  runScene<S>("needle vs needle", needle<S>(10), needle<S>(7), 6, 4);
+  runScene<S>("duplicated box vs needle", duplicatedBox<S>(), needle<S>(10), 4, 3);
   runScene<S>("duplicated box vs duplicated box", duplicatedBox<S>(), duplicatedBox<S>(), 4, 3);
 }
 
@@ -389,7 +363,7 @@ TYPED_TEST(TriangleIntersection, CoplanarOverlaps)
 {
   using S = TypeParam;
   auto rng = fcl_rs::test::seededRng("TriangleIntersection.CoplanarOverlaps");
-  const Scene<S> scene(plate<S>(), plate<S>(4));
+  const Scene<S> scene(plate<S>(5), plate<S>(4));
   Tally& tally = g_tallies[std::string("coplanar plates ") + (std::is_same<S, float>::value ? "float" : "double")];
   std::uniform_real_distribution<double> u(-1, 1);
   for (int k = 0; k < 12; ++k)
