@@ -1,4 +1,4 @@
-// Pieces shared by the benchmark programs: options, machine description, random poses, timing, progress, output.
+// Pieces shared by the benchmark programs: machine description, random poses, timing, progress, output.
 #ifndef FCL_RS_BENCHMARKS_BENCH_COMMON_H
 #define FCL_RS_BENCHMARKS_BENCH_COMMON_H
 
@@ -36,25 +36,7 @@ using fcl::Transform3d;
 using fcl::Vector3d;
 
 // ---------------------------------------------------------------------------------------------------
-// Options and machine description
-
-/// A non-negative integer option value; throws std::invalid_argument naming the option otherwise.
-inline unsigned long long number(const std::string& option, const std::string& text)
-{
-  std::size_t used = 0;
-  unsigned long long n = 0;
-  try
-  {
-    n = std::stoull(text, &used);
-  }
-  catch (const std::exception&)
-  {
-    used = 0;
-  }
-  if (used == 0 || used != text.size() || text[0] == '-')
-    throw std::invalid_argument(option + " needs a non-negative integer, not '" + text + "'");
-  return n;
-}
+// Machine description
 
 /// Like nproc: the CPUs this process may run on.
 inline int onlineCpus()

@@ -24,6 +24,9 @@
 
 #include <fcl_rs/robot.h>
 
+#include "common/command_line.h"
+#include "common/csv_writer.h"
+
 namespace {
 
 using namespace fcl_rs::bench;
@@ -50,56 +53,19 @@ struct Row
   int disagreements = 0;
 };
 
-void printHelp()
+void addOptions(CLI::App& app, Options& o)
 {
-  std::printf(
-      "Usage: fcl_rs_bench_selfcheck [options]\n"
-      "\n"
-      "Times full-robot self-collision checks with RS, OBBRSS, OBB, RSS and KDOP18 link trees on the same\n"
-      "random configurations (uniform within the joint limits), for panda and ur5 from\n"
-      "%s/robots, with their SRDF pairs disabled.\n"
-      "\n"
-      "Options:\n"
-      "  --configs N   configurations per robot (default 2000)\n"
-      "  --passes N    timing passes over blocks of 16 configurations, interleaved over the BV types; per\n"
-      "                block the fastest pass counts (default 10)\n"
-      "  --seed N      seed of the configurations (default 1)\n"
-      "  --urdf FILE   benchmark this robot instead (with --srdf FILE for its disabled pairs)\n"
-      "  --srdf FILE\n"
-      "  --csv FILE    also write the table to FILE as CSV\n"
-      "  --help\n",
-      FCL_RS_SHARED_DATA_DIR);
-}
-
-Options parse(int argc, char** argv)
-{
-  Options o;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
-    auto positive = [&](const std::string& text) {
-      const unsigned long long v = number(a, text);
-      if (v == 0 || v > 100000000) throw std::invalid_argument(a + " needs a positive count, not '" + text + "'");
-      return int(v);
-    };
-    if (a == "--help" || a == "-h")
-    {
-      printHelp();
-      std::exit(0);
-    }
-    else if (a == "--configs") o.configs = positive(value());
-    else if (a == "--passes") o.passes = positive(value());
-    else if (a == "--seed") o.seed = number(a, value());
-    else if (a == "--csv") o.csv = value();
-    else if (a == "--urdf") o.urdf = value();
-    else if (a == "--srdf") o.srdf = value();
-    else throw std::invalid_argument("unknown argument " + a + " (--help shows the options)");
-  }
-  return o;
+  app.add_option("--configs", o.configs, "configurations per robot")->check(CLI::Range(1, 100000000))->capture_default_str();
+  app.add_option("--passes", o.passes,
+                 "timing passes over blocks of 16 configurations, interleaved over the BV types; per\n"
+                 "block the fastest pass counts")
+      ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
+  app.add_option("--seed", o.seed, "seed of the configurations")->capture_default_str();
+  app.add_option("--urdf", o.urdf, "benchmark this robot instead (with --srdf FILE for its disabled pairs)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--srdf", o.srdf, "the disabled pairs of the --urdf robot")->check(CLI::ExistingFile)->needs("--urdf");
+  app.add_option("--csv", o.csv, "also write the table to FILE as CSV");
 }
 
 std::vector<Row> benchRobot(const std::string& urdf, const std::string& srdf, const Options& o)
@@ -210,15 +176,12 @@ const Row& obbrssRow(const std::vector<Row>& rows, const std::string& robot)
 int main(int argc, char** argv)
 {
   Options o;
-  try
-  {
-    o = parse(argc, argv);
-  }
-  catch (const std::exception& e)
-  {
-    std::fprintf(stderr, "fcl_rs_bench_selfcheck: %s\n", e.what());
-    return 2;
-  }
+  CLI::App app("Times full-robot self-collision checks with RS, OBBRSS, OBB, RSS and KDOP18 link trees on the same\n"
+               "random configurations (uniform within the joint limits), for panda and ur5 from\n" FCL_RS_SHARED_DATA_DIR
+               "/robots, with their SRDF pairs disabled.",
+               "fcl_rs_bench_selfcheck");
+  addOptions(app, o);
+  if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
   std::vector<std::pair<std::string, std::string>> robots;
   if (!o.urdf.empty())
     robots.emplace_back(o.urdf, o.srdf);
@@ -274,16 +237,25 @@ int main(int argc, char** argv)
 
   if (!o.csv.empty())
   {
-    std::ofstream out(o.csv);
-    out << "robot,bv,configs,pairs,build_ms,us_per_check,us_per_first_hit,time_vs_obbrss,bv_tests_per_check,"
-           "bv_tests_vs_obbrss,tri_tests_per_check,colliding_share,differ_from_rs\n";
-    for (const Row& r : rows)
+    try
     {
-      const Row& base = obbrssRow(rows, r.robot);
-      out << r.robot << "," << fcl_rs::bvTypeName(r.bv) << "," << r.configs << "," << r.pairs << "," << r.build_ms
-          << "," << r.us_check << "," << r.us_first << "," << ratio(r.us_check, base.us_check) << "," << r.bv_tests << ","
-          << ratio(r.bv_tests, base.bv_tests) << "," << r.tri_tests << ","
-          << r.colliding_share << "," << r.disagreements << "\n";
+      fcl_rs::tools::CsvWriter csv(o.csv, {"robot", "bv", "configs", "pairs", "build_ms", "us_per_check",
+                                           "us_per_first_hit", "time_vs_obbrss", "bv_tests_per_check",
+                                           "bv_tests_vs_obbrss", "tri_tests_per_check", "colliding_share",
+                                           "differ_from_rs"});
+      for (const Row& r : rows)
+      {
+        const Row& base = obbrssRow(rows, r.robot);
+        csv.row({r.robot, fcl_rs::bvTypeName(r.bv), r.configs, r.pairs, r.build_ms, r.us_check, r.us_first,
+                 ratio(r.us_check, base.us_check), r.bv_tests, ratio(r.bv_tests, base.bv_tests), r.tri_tests,
+                 r.colliding_share, r.disagreements});
+      }
+      csv.close();
+    }
+    catch (const std::exception& e)
+    {
+      std::fprintf(stderr, "fcl_rs_bench_selfcheck: %s\n", e.what());
+      return 1;
     }
     std::printf("CSV written to %s\n", o.csv.c_str());
   }

@@ -166,8 +166,10 @@ int main(int argc, char** argv)
   app.add_option("--frames", g_frames, "frames per benchmark")->check(CLI::Range(1, 100000000))->capture_default_str();
   app.allow_extras();
   if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
+  // What CLI11 left (Google Benchmark's flags) behind the program name, for benchmark::Initialize.
   std::vector<std::string> rest = app.remaining();
-  std::vector<char*> benchmark_argv = {argv[0]};
+  rest.insert(rest.begin(), app.get_name());
+  std::vector<char*> benchmark_argv;
   for (std::string& arg : rest) benchmark_argv.push_back(arg.data());
   int benchmark_argc = int(benchmark_argv.size());
   benchmark::Initialize(&benchmark_argc, benchmark_argv.data());
