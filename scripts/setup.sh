@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Installs the Debian packages fcl_rs needs (only those missing), then configures and builds (Release, -j2, Ninja).
 # Usage: scripts/setup.sh [BUILD_DIR]   (default: build)
+#        scripts/setup.sh --packages-only   (install the packages, configure and build nothing)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+packages_only=0
+[ "${1:-}" = --packages-only ] && packages_only=1 && shift
 build="${1:-$root/build}"
 
 packages=(cmake g++ make ninja-build libfcl-dev libccd-dev libeigen3-dev libassimp-dev assimp-testmodels
@@ -20,6 +23,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
+[ "$packages_only" = 1 ] && exit 0
 
 # Ninja: the test and tool sources compile while the library is still compiling (Makefiles wait for the
 # library's link first), so -j2 keeps both cores busy. An existing build directory keeps its generator.
