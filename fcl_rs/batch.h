@@ -18,8 +18,8 @@ namespace fcl_rs {
 /// reads the models only.
 struct BatchOptions
 {
-  /// 0: as many threads as oneTBB's default arena has (every core the process may use); 1: the calling thread
-  /// alone, without any oneTBB arena; n > 1: an arena of n threads.
+  /// 0: as many threads as oneTBB's default arena has (every CPU the process may use); 1: the calling thread
+  /// alone, without any oneTBB arena; n > 1: an arena of n threads, even beyond the CPU count.
   int num_threads = 0;
 };
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -31,21 +32,33 @@ void parallelFor(std::size_t n, const BatchOptions& options,
                       [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
   };
   if (options.num_threads == 0)
+  {
     run();
-  else
-    tbb::task_arena(options.num_threads).execute(run);
+    return;
+  }
+  // oneTBB caps its workers at the CPU count unless told otherwise; an explicit count is honoured (more threads
+  // than CPUs is the caller's choice). Concurrent batches' controls combine to the largest.
+  const tbb::global_control allow(tbb::global_control::max_allowed_parallelism, std::size_t(options.num_threads));
+  tbb::task_arena(options.num_threads).execute(run);
 }
 
 namespace {
 
-template <typename S>
-void requireSameLength(const std::vector<fcl::Transform3<S>>& poses_a, const std::vector<fcl::Transform3<S>>& poses_b,
-                       const char* what)
+/// results[i] = query(poses_a[i], poses_b[i], results[i]) for every i; each query writes its own slot only.
+template <typename Result, typename S, typename Query>
+std::vector<Result> poseBatch(const char* what, const std::vector<fcl::Transform3<S>>& poses_a,
+                              const std::vector<fcl::Transform3<S>>& poses_b, const BatchOptions& options,
+                              const Query& query)
 {
   if (poses_a.size() != poses_b.size())
     throw std::invalid_argument(std::string("fcl_rs::") + what + ": " + std::to_string(poses_a.size()) +
                                 " poses for the first object but " + std::to_string(poses_b.size()) +
                                 " for the second");
+  std::vector<Result> results(poses_a.size());
+  parallelFor(results.size(), options, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) query(poses_a[i], poses_b[i], results[i]);
+  });
+  return results;
 }
 
 }  // namespace
@@ -57,12 +70,11 @@ std::vector<fcl::CollisionResult<S>> collideBatch(const fcl::CollisionGeometry<S
                                                   const std::vector<fcl::Transform3<S>>& poses_b,
                                                   const fcl::CollisionRequest<S>& request, const BatchOptions& options)
 {
-  requireSameLength(poses_a, poses_b, "collideBatch");
-  std::vector<fcl::CollisionResult<S>> results(poses_a.size());
-  parallelFor(results.size(), options, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) collide(&a, poses_a[i], &b, poses_b[i], request, results[i]);
-  });
-  return results;
+  return poseBatch<fcl::CollisionResult<S>>(
+      "collideBatch", poses_a, poses_b, options,
+      [&](const fcl::Transform3<S>& ta, const fcl::Transform3<S>& tb, fcl::CollisionResult<S>& result) {
+        collide(&a, ta, &b, tb, request, result);
+      });
 }
 
 template <typename S>
@@ -72,12 +84,11 @@ std::vector<fcl::DistanceResult<S>> distanceBatch(const fcl::CollisionGeometry<S
                                                   const std::vector<fcl::Transform3<S>>& poses_b,
                                                   const fcl::DistanceRequest<S>& request, const BatchOptions& options)
 {
-  requireSameLength(poses_a, poses_b, "distanceBatch");
-  std::vector<fcl::DistanceResult<S>> results(poses_a.size());
-  parallelFor(results.size(), options, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) distance(&a, poses_a[i], &b, poses_b[i], request, results[i]);
-  });
-  return results;
+  return poseBatch<fcl::DistanceResult<S>>(
+      "distanceBatch", poses_a, poses_b, options,
+      [&](const fcl::Transform3<S>& ta, const fcl::Transform3<S>& tb, fcl::DistanceResult<S>& result) {
+        distance(&a, ta, &b, tb, request, result);
+      });
 }
 
 #define FCL_RS_INSTANTIATE_BATCH(S)                                                                               \
