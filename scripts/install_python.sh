@@ -14,5 +14,11 @@ cmake --build "$build" -j2 --target fcl_rs_python
 sudo=""
 [ "$(id -u)" -ne 0 ] && sudo="sudo"
 $sudo cmake --install "$build" --component python
-python="$(sed -n 's/^Python3_EXECUTABLE:FILEPATH=//p' "$build/CMakeCache.txt")"
-(cd / && "$python" -c 'import fcl_rs; print("fcl_rs", fcl_rs.__version__, "installed at", fcl_rs.__file__)')
+cached() { sed -n "s/^$1:[A-Z]*=//p" "$build/CMakeCache.txt"; }
+python="$(cached Python3_EXECUTABLE)"
+dir="$(cached FCL_RS_PYTHON_INSTALL_DIR)"
+[ "${dir#/}" = "$dir" ] && dir="$(cached CMAKE_INSTALL_PREFIX)/$dir"
+if ! (cd / && "$python" -c 'import fcl_rs; print("fcl_rs", fcl_rs.__version__, "installed at", fcl_rs.__file__)'); then
+  echo "fcl_rs installed into $dir, which $python does not search: add it to PYTHONPATH" >&2
+  (cd / && PYTHONPATH="$dir" "$python" -c 'import fcl_rs; print("fcl_rs", fcl_rs.__version__, "imports from", fcl_rs.__file__)')
+fi
