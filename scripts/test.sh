@@ -7,7 +7,7 @@
 #   Without --quick, then, each in its own build directory:
 #     build-asan  (clang, -O1) every GoogleTest case under AddressSanitizer + UndefinedBehaviorSanitizer, then
 #                 each libFuzzer target for FCL_RS_FUZZ_SECONDS s (default 60) from seed FCL_RS_FUZZ_SEED (default 1)
-#     build-tsan  the Concurrency suites (tests/test_concurrency, tests/test_batch) under ThreadSanitizer
+#     build-tsan  tests/test_concurrency under ThreadSanitizer
 #   Details and how to run one stage alone: docs/robustness.md.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -56,10 +56,10 @@ cmake --build "$asan" -j2 --target "${tests[@]}" fuzz_mesh_load fuzz_rs
 # The GoogleTest cases (label unit); the other CTest tests run the examples and tools, not built here.
 (cd "$asan" && ctest --output-on-failure -j2 -L unit)
 
-stage "ThreadSanitizer: the Concurrency suites of test_concurrency and test_batch (build-tsan)"
+stage "ThreadSanitizer: test_concurrency (build-tsan)"
 tsan="$root/build-tsan"
 cmake -S "$root" -B "$tsan" $(generator "$tsan") "${sanitized[@]}" -DFCL_RS_SANITIZE=thread > /dev/null
-cmake --build "$tsan" -j2 --target test_concurrency test_batch
+cmake --build "$tsan" -j2 --target test_concurrency
 (cd "$tsan" && ctest --output-on-failure -j2 -L unit -R '^Concurrency\.')
 
 seconds="${FCL_RS_FUZZ_SECONDS:-60}"

@@ -1,5 +1,5 @@
-// Batches (issue 16): every thread count gives exactly the single-query answers. The threaded cases are in the
-// Concurrency suite, which scripts/test.sh also runs under ThreadSanitizer.
+// Batches (issue 16): every thread count gives exactly the single-query answers (the threaded cases form the
+// Concurrency suite; Debian's oneTBB is not TSan-instrumented, see docs/batch.md).
 #include <memory>
 #include <vector>
 
