@@ -24,20 +24,6 @@ namespace {
 constexpr int kThreads = 8;
 constexpr int kPoses = 40;
 
-template <typename S>
-bool sameContacts(const fcl::CollisionResult<S>& a, const fcl::CollisionResult<S>& b)
-{
-  if (a.numContacts() != b.numContacts()) return false;
-  for (std::size_t i = 0; i < a.numContacts(); ++i)
-  {
-    const auto &x = a.getContact(i), &y = b.getContact(i);
-    if (x.b1 != y.b1 || x.b2 != y.b2 || x.pos != y.pos || x.normal != y.normal ||
-        x.penetration_depth != y.penetration_depth)
-      return false;
-  }
-  return true;
-}
-
 /// Everything one pose's queries return.
 template <typename S>
 struct Answer
@@ -49,9 +35,9 @@ struct Answer
 
   bool operator==(const Answer& o) const
   {
-    if (!sameContacts(mesh_mesh, o.mesh_mesh) || mesh_shape.size() != o.mesh_shape.size()) return false;
+    if (!test::sameContacts(mesh_mesh, o.mesh_mesh) || mesh_shape.size() != o.mesh_shape.size()) return false;
     for (std::size_t i = 0; i < mesh_shape.size(); ++i)
-      if (!sameContacts(mesh_shape[i], o.mesh_shape[i])) return false;
+      if (!test::sameContacts(mesh_shape[i], o.mesh_shape[i])) return false;
     const auto same = [](const QueryStats& a, const QueryStats& b) {
       return a.num_bv_tests == b.num_bv_tests && a.num_leaf_tests == b.num_leaf_tests;
     };

@@ -16,16 +16,7 @@ namespace fcl_rs {
 namespace {
 
 namespace fs = std::filesystem;
-
-using test::messageOf;
-
-/// Expects f to throw a message holding every one of `parts`.
-void expectError(const std::function<void()>& f, const std::vector<std::string>& parts)
-{
-  const std::string msg = messageOf(f);
-  ASSERT_FALSE(msg.empty()) << "no exception";
-  for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' not in: " << msg;
-}
+using test::expectError;
 
 void writeFile(const fs::path& path, const std::string& text)
 {

@@ -160,6 +160,29 @@ fcl::Transform3<S> fclRelative(const fcl::Transform3<S>& tf1, const fcl::Transfo
   return rel;
 }
 
+/// Same contacts in the same order, compared exactly.
+template <typename S>
+bool sameContacts(const fcl::CollisionResult<S>& a, const fcl::CollisionResult<S>& b)
+{
+  if (a.numContacts() != b.numContacts()) return false;
+  for (std::size_t i = 0; i < a.numContacts(); ++i)
+  {
+    const auto &x = a.getContact(i), &y = b.getContact(i);
+    if (x.b1 != y.b1 || x.b2 != y.b2 || x.pos != y.pos || x.normal != y.normal ||
+        x.penetration_depth != y.penetration_depth)
+      return false;
+  }
+  return true;
+}
+
+/// Expects f to throw a message holding every one of `parts`.
+inline void expectError(const std::function<void()>& f, const std::vector<std::string>& parts)
+{
+  const std::string msg = messageOf(f);
+  ASSERT_FALSE(msg.empty()) << "no exception";
+  for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' not in: " << msg;
+}
+
 /// Radius of the ball about the origin containing every vertex.
 template <typename S>
 S meshRadius(const TriangleMesh<S>& m)

@@ -29,6 +29,24 @@ BVType parseBVType(const std::string& name);
 /// Two link indices (RobotModel::links), first < second.
 using LinkPair = std::pair<int, int>;
 
+/// What SelfCollision::query computes beyond "colliding or not".
+struct SelfCheckRequest
+{
+  bool colliding_pairs = false;   ///< every colliding pair (else the check stops at the first one)
+  bool minimum_distance = false;  ///< the smallest distance between the geometries of any two checked links
+};
+
+/// One configuration's answer.
+template <typename S>
+struct SelfCheckResult
+{
+  bool colliding = false;
+  std::vector<LinkPair> pairs;  ///< with SelfCheckRequest::colliding_pairs: what check() returns
+  /// With SelfCheckRequest::minimum_distance: 0 when colliding, else the minimum over pairs() of
+  /// fcl_rs::distance between the two links' elements (exact, rel_err = abs_err = 0).
+  S minimum_distance = 0;
+};
+
 /// Self-collision checker for one robot and one BV type.
 ///
 /// Every link with collision geometry gets one BVHModel<BV> holding all its <mesh> elements, plus one FCL shape
@@ -47,11 +65,14 @@ using LinkPair = std::pair<int, int>;
 ///   (same topology, exact leaves; cheaper than FCL's per-query copy and rebuild); the trees are then tested
 ///   with identity transforms.
 ///
-/// Not thread-safe (the KDOP18 trees and scratch results are updated per check): use one checker per thread.
+/// check, checkPoses and inCollision are not thread-safe (the KDOP18 trees and the poses are updated per check).
+/// query is: it only reads the checker, so many threads may share one (see fcl_rs/robot/batch_self_collision.h).
 template <typename S>
 class SelfCollision
 {
 public:
+  using Scalar = S;
+
   /// Throws std::invalid_argument when a disabled pair names a link the robot does not have.
   SelfCollision(const RobotModel& robot, BVType bv, const std::vector<DisabledCollision>& disabled = {});
   ~SelfCollision();
@@ -71,6 +92,10 @@ public:
   std::vector<LinkPair> checkPoses(const std::vector<fcl::Transform3<S>>& poses, QueryStats* stats = nullptr);
   /// Whether any pair collides at q; stops at the first colliding pair (the query a planner makes).
   bool inCollision(const fcl::VectorX<S>& q);
+  /// The same answers as check / inCollision (and the minimum distance on request) without changing the
+  /// checker, so it may be called from many threads at once. Throws std::invalid_argument for KDOP18 (its
+  /// trees are refitted in place per check) and, with minimum_distance, for OBB (FCL has no OBB distance).
+  SelfCheckResult<S> query(const fcl::VectorX<S>& q, const SelfCheckRequest& request) const;
 
 private:
   struct Impl;

@@ -23,6 +23,7 @@
 
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/bv/rs_fit.h"
+#include "fcl_rs/distance.h"
 
 namespace fcl_rs {
 
@@ -64,11 +65,13 @@ class MeshTrees
 public:
   virtual ~MeshTrees() = default;
   /// Called once per check before any test, with the poses every test of the check uses.
-  virtual void setPoses(const std::vector<Tf<S>>& /*poses*/) {}
+  virtual void setPoses(const std::vector<Tf<S>>& /*poses*/) const {}
   virtual bool meshMesh(int a, const Tf<S>& ta, int b, const Tf<S>& tb, const fcl::CollisionRequest<S>& request,
-                        QueryStats* stats) = 0;
+                        QueryStats* stats) const = 0;
   virtual bool meshShape(int a, const Tf<S>& ta, const fcl::CollisionGeometry<S>& shape, const Tf<S>& ts,
-                         const fcl::CollisionRequest<S>& request) = 0;
+                         const fcl::CollisionRequest<S>& request) const = 0;
+  /// The link's tree in its own frame, queried read-only; nullptr when the trees are updated per check.
+  virtual const fcl::CollisionGeometry<S>* localModel(int link) const = 0;
 };
 
 /// RS, OBBRSS, OBB, RSS: trees stay in their link frames; queries use the relative transform.
@@ -83,7 +86,7 @@ public:
     for (const auto& m : meshes) models_.push_back(m.triangles.empty() ? nullptr : buildModel<BV>(m));
   }
   bool meshMesh(int a, const Tf<S>& ta, int b, const Tf<S>& tb, const fcl::CollisionRequest<S>& request,
-                QueryStats* stats) override
+                QueryStats* stats) const override
   {
     fcl::CollisionResult<S> result;
     const QueryStats s = collideWithStats(*models_[a], ta, *models_[b], tb, request, result);
@@ -95,11 +98,12 @@ public:
     return result.isCollision();
   }
   bool meshShape(int a, const Tf<S>& ta, const fcl::CollisionGeometry<S>& shape, const Tf<S>& ts,
-                 const fcl::CollisionRequest<S>& request) override
+                 const fcl::CollisionRequest<S>& request) const override
   {
     fcl::CollisionResult<S> result;
     return fcl_rs::collide(models_[a].get(), ta, &shape, ts, request, result) > 0;
   }
+  const fcl::CollisionGeometry<S>* localModel(int link) const override { return models_[link].get(); }
 
 private:
   std::vector<std::shared_ptr<fcl::BVHModel<BV>>> models_;
@@ -122,13 +126,13 @@ public:
     }
     current_.assign(meshes.size(), false);
   }
-  void setPoses(const std::vector<Tf<S>>& poses) override
+  void setPoses(const std::vector<Tf<S>>& poses) const override
   {
     poses_ = &poses;
     std::fill(current_.begin(), current_.end(), false);
   }
   bool meshMesh(int a, const Tf<S>&, int b, const Tf<S>&, const fcl::CollisionRequest<S>& request,
-                QueryStats* stats) override
+                QueryStats* stats) const override
   {
     fcl::detail::MeshCollisionTraversalNode<BV> node;
     fcl::CollisionResult<S> result;
@@ -144,7 +148,7 @@ public:
     return result.isCollision();
   }
   bool meshShape(int a, const Tf<S>&, const fcl::CollisionGeometry<S>& shape, const Tf<S>& ts,
-                 const fcl::CollisionRequest<S>& request) override
+                 const fcl::CollisionRequest<S>& request) const override
   {
     switch (shape.getNodeType())
     {
@@ -155,8 +159,12 @@ public:
     }
   }
 
+  const fcl::CollisionGeometry<S>* localModel(int) const override { return nullptr; }
+
 private:
-  fcl::BVHModel<BV>& world(int link)
+  // The refit cache behind the const interface: SelfCollision::query refuses KDOP18, so only the
+  // single-threaded check path updates it.
+  fcl::BVHModel<BV>& world(int link) const
   {
     fcl::BVHModel<BV>& m = *models_[link];
     if (current_[link]) return m;
@@ -168,7 +176,7 @@ private:
     return m;
   }
   template <typename Shape>
-  bool meshShapeOf(int a, const Shape& shape, const Tf<S>& ts, const fcl::CollisionRequest<S>& request)
+  bool meshShapeOf(int a, const Shape& shape, const Tf<S>& ts, const fcl::CollisionRequest<S>& request) const
   {
     fcl::detail::MeshShapeCollisionTraversalNode<BV, Shape, Solver> node;
     fcl::CollisionResult<S> result;
@@ -180,8 +188,8 @@ private:
 
   std::vector<std::shared_ptr<fcl::BVHModel<BV>>> models_;
   std::vector<std::vector<fcl::Vector3<S>>> local_;
-  std::vector<bool> current_;
-  const std::vector<Tf<S>>* poses_ = nullptr;
+  mutable std::vector<bool> current_;
+  mutable const std::vector<Tf<S>>* poses_ = nullptr;
   Solver solver_;
 };
 
@@ -245,16 +253,21 @@ struct SelfCollision<S>::Impl
 
   Impl(const RobotModel& robot, BVType bv_type) : bv(bv_type), kinematics(robot) {}
 
-  bool collides(int a, int b, QueryStats* stats)
+  /// Distance between the links' bounding spheres minus a rounding pad: never more than the geometries'.
+  S sphereGap(const std::vector<Tf<S>>& poses, int a, int b) const
+  {
+    const fcl::Vector3<S> ca = poses[a] * links[a].center, cb = poses[b] * links[b].center;
+    const S radii = links[a].radius + links[b].radius;
+    return (ca - cb).norm() - radii - S(1e-5) * (radii + ca.norm() + cb.norm());
+  }
+
+  bool collides(const std::vector<Tf<S>>& poses, int a, int b, QueryStats* stats) const
   {
     const Link& la = links[a];
     const Link& lb = links[b];
     const Tf<S>& ta = poses[a];
     const Tf<S>& tb = poses[b];
-    // Bounding spheres, padded for rounding in the world-frame centres.
-    const fcl::Vector3<S> ca = ta * la.center, cb = tb * lb.center;
-    const S reach = la.radius + lb.radius + S(1e-5) * (la.radius + lb.radius + ca.norm() + cb.norm());
-    if ((ca - cb).squaredNorm() > reach * reach) return false;
+    if (sphereGap(poses, a, b) > 0) return false;
 
     if (la.has_mesh && lb.has_mesh && trees->meshMesh(a, ta, b, tb, request, stats)) return true;
     if (la.has_mesh)
@@ -274,17 +287,47 @@ struct SelfCollision<S>::Impl
   }
 
   /// Tests the pair list at `poses`.
-  std::vector<LinkPair> testPairs(QueryStats* stats, bool stop_at_first)
+  std::vector<LinkPair> testPairs(const std::vector<Tf<S>>& poses, QueryStats* stats, bool stop_at_first) const
   {
     trees->setPoses(poses);
     std::vector<LinkPair> colliding;
     for (const LinkPair& p : pairs)
-      if (collides(p.first, p.second, stats))
+      if (collides(poses, p.first, p.second, stats))
       {
         colliding.push_back(p);
         if (stop_at_first) break;
       }
     return colliding;
+  }
+
+  /// The smallest distance between any element of link a and any element of link b, when below `bound`.
+  S linkDistance(const std::vector<Tf<S>>& poses, int a, int b, S bound) const
+  {
+    std::vector<std::pair<const fcl::CollisionGeometry<S>*, Tf<S>>> ea, eb;
+    const auto elements = [&](int link, auto& out) {
+      if (links[link].has_mesh) out.emplace_back(trees->localModel(link), poses[link]);
+      for (const Shape& s : links[link].shapes) out.emplace_back(s.geometry.get(), poses[link] * s.origin);
+    };
+    elements(a, ea);
+    elements(b, eb);
+    const fcl::DistanceRequest<S> request;
+    for (const auto& x : ea)
+      for (const auto& y : eb)
+      {
+        fcl::DistanceResult<S> result;
+        bound = std::min(bound, fcl_rs::distance(x.first, x.second, y.first, y.second, request, result));
+      }
+    return bound;
+  }
+
+  /// Minimum distance over the pair list of a collision-free configuration. Pairs whose spheres are farther
+  /// apart than the best distance so far cannot lower it; the pair order is fixed, so the result is too.
+  S minimumDistance(const std::vector<Tf<S>>& poses) const
+  {
+    S best = std::numeric_limits<S>::infinity();
+    for (const LinkPair& p : pairs)
+      if (sphereGap(poses, p.first, p.second) < best) best = linkDistance(poses, p.first, p.second, best);
+    return best;
   }
 
   BVType bv;
@@ -293,7 +336,7 @@ struct SelfCollision<S>::Impl
   std::vector<Link> links;
   std::vector<LinkPair> pairs;
   std::unique_ptr<MeshTrees<S>> trees;
-  std::vector<Tf<S>> poses;
+  std::vector<Tf<S>> poses;  ///< scratch of the non-const checks
   fcl::CollisionRequest<S> request{/*num_max_contacts=*/1, /*enable_contact=*/false};
 };
 
@@ -403,7 +446,7 @@ template <typename S>
 std::vector<LinkPair> SelfCollision<S>::check(const fcl::VectorX<S>& q, QueryStats* stats)
 {
   impl_->kinematics.linkPoses(q, impl_->poses);
-  return impl_->testPairs(stats, /*stop_at_first=*/false);
+  return impl_->testPairs(impl_->poses, stats, /*stop_at_first=*/false);
 }
 
 template <typename S>
@@ -413,14 +456,33 @@ std::vector<LinkPair> SelfCollision<S>::checkPoses(const std::vector<fcl::Transf
     throw std::invalid_argument("fcl_rs::SelfCollision: " + std::to_string(poses.size()) + " poses for " +
                                 std::to_string(impl_->links.size()) + " links");
   impl_->poses = poses;
-  return impl_->testPairs(stats, /*stop_at_first=*/false);
+  return impl_->testPairs(impl_->poses, stats, /*stop_at_first=*/false);
 }
 
 template <typename S>
 bool SelfCollision<S>::inCollision(const fcl::VectorX<S>& q)
 {
   impl_->kinematics.linkPoses(q, impl_->poses);
-  return !impl_->testPairs(nullptr, /*stop_at_first=*/true).empty();
+  return !impl_->testPairs(impl_->poses, nullptr, /*stop_at_first=*/true).empty();
+}
+
+template <typename S>
+SelfCheckResult<S> SelfCollision<S>::query(const fcl::VectorX<S>& q, const SelfCheckRequest& request) const
+{
+  if (impl_->bv == BVType::kKDOP18)
+    throw std::invalid_argument("fcl_rs::SelfCollision::query: KDOP18 trees are refitted in place per check, so "
+                                "they cannot be shared; use check() or a BV type with local-frame trees");
+  if (request.minimum_distance && impl_->bv == BVType::kOBB)
+    throw std::invalid_argument("fcl_rs::SelfCollision::query: FCL has no distance query for OBB trees; "
+                                "use RS, OBBRSS or RSS for minimum distances");
+  std::vector<Tf<S>> poses;
+  impl_->kinematics.linkPoses(q, poses);
+  SelfCheckResult<S> result;
+  result.pairs = impl_->testPairs(poses, nullptr, /*stop_at_first=*/!request.colliding_pairs);
+  result.colliding = !result.pairs.empty();
+  if (!request.colliding_pairs) result.pairs.clear();
+  if (request.minimum_distance) result.minimum_distance = result.colliding ? S(0) : impl_->minimumDistance(poses);
+  return result;
 }
 
 template class SelfCollision<float>;

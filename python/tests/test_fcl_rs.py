@@ -1,0 +1,146 @@
+"""The Python module: meshes, shapes, single queries, batches equal to single queries, robots, errors."""
+import os
+import runpy
+
+import numpy as np
+import pytest
+
+import fcl_rs
+from conftest import SOURCE_DIR, random_poses
+
+THREADS = [1, 2, 4]
+
+
+def torus(big=0.6, small=0.2, rings=16, sides=8):
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, rings, endpoint=False),
+                       np.linspace(0, 2 * np.pi, sides, endpoint=False), indexing="ij")
+    vertices = np.stack([(big + small * np.cos(v)) * np.cos(u), (big + small * np.cos(v)) * np.sin(u),
+                         small * np.sin(v)], axis=-1).reshape(-1, 3)
+    triangles = []
+    for i in range(rings):
+        for j in range(sides):
+            a, b = i * sides + j, ((i + 1) % rings) * sides + j
+            c, d = ((i + 1) % rings) * sides + (j + 1) % sides, i * sides + (j + 1) % sides
+            triangles += [[a, b, c], [a, c, d]]
+    return vertices, np.array(triangles)
+
+
+def test_quickstart_runs_and_readme_quotes_it(capsys):
+    path = os.path.join(SOURCE_DIR, "python", "examples", "quickstart.py")
+    runpy.run_path(path, run_name="__main__")
+    assert "colliding: True" in capsys.readouterr().out
+    with open(path) as f, open(os.path.join(SOURCE_DIR, "README.md")) as readme:
+        assert f.read() in readme.read(), "README's Python quick start differs from python/examples/quickstart.py"
+
+
+def test_mesh_from_arrays_and_file(tmp_path):
+    vertices, triangles = torus()
+    mesh = fcl_rs.Mesh(vertices, triangles)
+    assert (mesh.num_vertices, mesh.num_triangles) == (len(vertices), len(triangles))
+    obj = tmp_path / "torus.obj"
+    obj.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in vertices) +
+                   "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in triangles))
+    loaded = fcl_rs.Mesh.from_file(str(obj))
+    assert loaded.num_triangles == len(triangles)
+    pose = np.eye(4)
+    pose[0, 3] = 0.6
+    assert fcl_rs.collide(loaded, np.eye(4), fcl_rs.Sphere(0.25), pose).is_collision
+    pose[0, 3] = 0.0
+    assert not fcl_rs.collide(loaded, np.eye(4), fcl_rs.Sphere(0.25), pose).is_collision
+
+
+def test_contacts_and_nearest_points_like_python_fcl():
+    mesh = fcl_rs.Mesh(*torus())
+    pose = np.eye(4)
+    pose[:3, 3] = [0.8, 0.0, 0.0]  # across the torus' outer equator
+    result = fcl_rs.collide(mesh, np.eye(4), fcl_rs.Box(0.2, 0.2, 0.2), pose,
+                            fcl_rs.CollisionRequest(num_max_contacts=1000, enable_contact=True))
+    assert result.is_collision and len(result.contacts) > 0
+    for c in result.contacts:
+        assert 0 <= c.b1 < 256 and c.pos.shape == (3,) and abs(np.linalg.norm(c.normal) - 1) < 1e-9
+        assert c.penetration_depth >= 0
+    pose[:3, 3] = [2.0, 0.0, 0.0]
+    far = fcl_rs.distance(mesh, np.eye(4), fcl_rs.Sphere(0.5), pose, fcl_rs.DistanceRequest(enable_nearest_points=True))
+    # The torus reaches x = 0.8, the sphere starts at x = 1.5.
+    assert far.min_distance == pytest.approx(0.7, abs=1e-9)
+    assert far.nearest_points[0] == pytest.approx([0.8, 0, 0], abs=1e-9)
+    assert far.nearest_points[1] == pytest.approx([1.5, 0, 0], abs=1e-9)
+
+
+@pytest.mark.parametrize("other", ["mesh", "box", "capsule", "cylinder", "cone", "ellipsoid"])
+def test_collide_batch_equals_single_queries(rng, other):
+    mesh = fcl_rs.Mesh(*torus())
+    b = {"mesh": fcl_rs.Mesh(*torus(0.4, 0.1)), "box": fcl_rs.Box(0.5, 0.4, 0.3), "capsule": fcl_rs.Capsule(0.1, 0.6),
+         "cylinder": fcl_rs.Cylinder(0.2, 0.5), "cone": fcl_rs.Cone(0.2, 0.5),
+         "ellipsoid": fcl_rs.Ellipsoid(0.3, 0.2, 0.1)}[other]
+    poses_a, poses_b = random_poses(rng, 200, 0.5), random_poses(rng, 200, 0.9)
+    single = np.array([fcl_rs.collide(mesh, pa, b, pb).is_collision for pa, pb in zip(poses_a, poses_b)])
+    assert 5 < single.sum() < len(single) - 5
+    for threads in THREADS:
+        batch = fcl_rs.collide_batch(mesh, poses_a, b, poses_b, num_threads=threads)
+        assert batch.dtype == np.bool_ and np.array_equal(batch, single)
+
+
+def test_distance_batch_equals_single_queries(rng):
+    mesh, other = fcl_rs.Mesh(*torus()), fcl_rs.Mesh(*torus(0.4, 0.1))
+    poses_a, poses_b = random_poses(rng, 100, 0.5), random_poses(rng, 100, 1.5)
+    request = fcl_rs.DistanceRequest(enable_nearest_points=True)
+    single = [fcl_rs.distance(mesh, pa, other, pb, request) for pa, pb in zip(poses_a, poses_b)]
+    for threads in THREADS:
+        distances, points = fcl_rs.distance_batch(mesh, poses_a, other, poses_b, num_threads=threads)
+        assert distances.shape == (100,) and points.shape == (100, 2, 3)
+        assert np.array_equal(distances, [r.min_distance for r in single])
+        assert np.array_equal(points, [r.nearest_points for r in single])
+
+
+def test_robot_names_limits_and_batches(chain_urdf, rng):
+    robot = fcl_rs.Robot(chain_urdf)
+    assert robot.name == "folding_chain" and robot.dof == 5
+    assert robot.link_names == [f"link{i}" for i in range(6)] + ["tip"]
+    assert robot.joint_names == [f"joint{i}" for i in range(1, 6)]
+    assert np.array_equal(robot.lower, [-2.8] * 5) and np.array_equal(robot.upper, [2.8] * 5)
+    q = robot.random_configurations(300, seed=7)
+    assert q.shape == (300, 5) and (q >= robot.lower).all() and (q <= robot.upper).all()
+    single = [robot.check(row) for row in q]
+    assert 10 < sum(bool(p) for p in single) < 290
+    distances = np.array([robot.minimum_distance(row) for row in q])
+    for threads in THREADS:
+        out = robot.check_batch(q, pairs=True, minimum_distance=True, num_threads=threads)
+        assert np.array_equal(out["colliding"], [bool(p) for p in single])
+        assert [[tuple(p) for p in rows] for rows in out["pairs"]] == single
+        assert np.array_equal(out["minimum_distance"], distances)
+        assert np.array_equal((distances == 0), out["colliding"])
+    flags = robot.check_batch(q)
+    assert set(flags) == {"colliding"}
+    # The output array owns no copy of its own: it wraps the C++ result.
+    assert not flags["colliding"].flags.owndata
+
+
+def test_errors_keep_the_library_messages(tmp_path, chain_urdf):
+    with pytest.raises(ValueError, match="triangle 1 refers to vertex 4 but the mesh has 4 vertices"):
+        fcl_rs.Mesh(np.eye(4, 3), [[0, 1, 2], [1, 2, 4]])
+    with pytest.raises(ValueError, match="vertex 2 has a non-finite coordinate"):
+        fcl_rs.Mesh([[0, 0, 0], [1, 0, 0], [np.nan, 1, 0]], [[0, 1, 2]])
+    with pytest.raises(ValueError, match=r"shape \(V, 3\)"):
+        fcl_rs.Mesh(np.zeros((3, 2)), [[0, 1, 2]])
+    missing = str(tmp_path / "missing.stl")
+    with pytest.raises(RuntimeError, match="missing.stl"):
+        fcl_rs.Mesh.from_file(missing)
+    with pytest.raises(RuntimeError, match="no_robot.urdf"):
+        fcl_rs.Robot(str(tmp_path / "no_robot.urdf"))
+    with pytest.raises(ValueError, match="unknown BV type 'AABB'"):
+        fcl_rs.Robot(chain_urdf, bv="AABB")
+    robot = fcl_rs.Robot(chain_urdf)
+    with pytest.raises(ValueError, match="configurations have 4 columns, the robot has 5 joint variables"):
+        robot.check_batch(np.zeros((3, 4)))
+    with pytest.raises(ValueError, match="non-finite"):
+        robot.check_batch(np.full((2, 5), np.nan), num_threads=2)
+    with pytest.raises(ValueError, match="KDOP18"):
+        fcl_rs.Robot(chain_urdf, bv="KDOP18").check_batch(np.zeros((1, 5)))
+    box = fcl_rs.Box(1, 1, 1)
+    with pytest.raises(ValueError, match=r"\(N, 4, 4\)"):
+        fcl_rs.collide_batch(box, np.zeros((3, 3, 3)), box, np.zeros((3, 4, 4)))
+    with pytest.raises(ValueError, match="3 poses for the first object but 2 for the second"):
+        fcl_rs.collide_batch(box, np.zeros((3, 4, 4)), box, np.zeros((2, 4, 4)))
+    with pytest.raises(ValueError, match="thread count"):
+        fcl_rs.collide_batch(box, np.zeros((1, 4, 4)), box, np.zeros((1, 4, 4)), num_threads=-2)

@@ -1,0 +1,44 @@
+// selfCollisionBatch: SelfCollision::query per row, each row writing its own slots.
+#include "fcl_rs/robot/batch_self_collision.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace fcl_rs {
+
+template <typename S>
+SelfCollisionBatchResult<S> selfCollisionBatch(const SelfCollision<S>& checker,
+                                               const ConfigurationsRef<S>& configurations,
+                                               const SelfCheckRequest& request, const BatchOptions& options)
+{
+  const int dof = checker.kinematics().numVariables();
+  if (configurations.cols() != dof)
+    throw std::invalid_argument("fcl_rs::selfCollisionBatch: configurations have " +
+                                std::to_string(configurations.cols()) + " columns, the robot has " +
+                                std::to_string(dof) + " joint variables");
+  const std::size_t n = std::size_t(configurations.rows());
+  SelfCollisionBatchResult<S> result;
+  result.colliding.resize(n);
+  if (request.colliding_pairs) result.pairs.resize(n);
+  if (request.minimum_distance) result.minimum_distance.resize(n);
+  parallelFor(n, options, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      SelfCheckResult<S> one = checker.query(configurations.row(Eigen::Index(i)).transpose(), request);
+      result.colliding[i] = one.colliding;
+      if (request.colliding_pairs) result.pairs[i] = std::move(one.pairs);
+      if (request.minimum_distance) result.minimum_distance[i] = one.minimum_distance;
+    }
+  });
+  return result;
+}
+
+#define FCL_RS_INSTANTIATE_SELF_COLLISION_BATCH(S)                                              \
+  template SelfCollisionBatchResult<S> selfCollisionBatch<S>(                                   \
+      const SelfCollision<S>&, const ConfigurationsRef<S>&, const SelfCheckRequest&,          \
+      const BatchOptions&);
+FCL_RS_INSTANTIATE_SELF_COLLISION_BATCH(float)
+FCL_RS_INSTANTIATE_SELF_COLLISION_BATCH(double)
+#undef FCL_RS_INSTANTIATE_SELF_COLLISION_BATCH
+
+}  // namespace fcl_rs
