@@ -6,6 +6,8 @@
 #include <limits>
 #include <memory>
 #include <type_traits>
+#include <utility>
+#include <vector>
 
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/detail/traversal/distance/mesh_distance_traversal_node.h>
@@ -109,6 +111,68 @@ public:
 private:
   S start_distance_ = 0;
 };
+
+/// Runs the mesh-mesh distance traversal of node (preprocess, descent, postprocess): FCL's ordered descent
+/// (split the larger node, bound both children, visit the nearer first, skip a pair once its bound cannot
+/// improve the result, re-checked when it is reached) on an explicit stack with direct calls (FCL's recursion
+/// makes about nine virtual calls per visited pair). Unlike FCL, a child pair of two leaves is measured at once
+/// instead of bounded.
+template <typename S>
+void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
+{
+  using Node = MeshDistanceTraversalNodeRS<S>;
+  const fcl::BVHModel<RS<S>>& model1 = *node.model1;
+  const fcl::BVHModel<RS<S>>& model2 = *node.model2;
+  struct Pair
+  {
+    int b1, b2;
+    S bound;
+  };
+  // A pair of leaves is bounded by its triangles' distance itself, which is exact and cheaper than an RS bound
+  // (docs/kernel.md): it is measured at once, and the pair is never visited again.
+  const auto bound = [&](int b1, int b2) {
+    if (!model1.getBV(b1).isLeaf() || !model2.getBV(b2).isLeaf()) return node.Node::BVTesting(b1, b2);
+    node.Node::leafTesting(b1, b2);
+    return std::numeric_limits<S>::max();
+  };
+  node.Node::preprocess();
+  std::vector<Pair> stack;
+  stack.reserve(128);
+  stack.push_back({0, 0, S(0)});
+  while (!stack.empty())
+  {
+    const Pair pair = stack.back();
+    stack.pop_back();
+    if (pair.b1 != 0 || pair.b2 != 0)
+      if (node.Node::canStop(pair.bound)) continue;
+    const fcl::BVNode<RS<S>>& n1 = model1.getBV(pair.b1);
+    const fcl::BVNode<RS<S>>& n2 = model2.getBV(pair.b2);
+    const bool leaf1 = n1.isLeaf(), leaf2 = n2.isLeaf();
+    if (leaf1 && leaf2)
+    {
+      node.Node::leafTesting(pair.b1, pair.b2);
+      continue;
+    }
+    Pair a{pair.b1, pair.b2, S(0)}, c = a;
+    if (leaf2 || (!leaf1 && n1.bv.size() > n2.bv.size()))
+    {
+      a.b1 = n1.leftChild();
+      c.b1 = n1.rightChild();
+    }
+    else
+    {
+      a.b2 = n2.leftChild();
+      c.b2 = n2.rightChild();
+    }
+    a.bound = bound(a.b1, a.b2);
+    c.bound = bound(c.b1, c.b2);
+    // The nearer pair goes on top; ties visit the left child first, as FCL does.
+    if (c.bound < a.bound) std::swap(a, c);
+    stack.push_back(c);
+    stack.push_back(a);
+  }
+  node.Node::postprocess();
+}
 
 /// Sets up node for model1 at tf1 against model2 at tf2; false unless both are triangle meshes.
 /// Unlike FCL's oriented nodes (whose constructor reads rel_err and abs_err from a default request, so
