@@ -27,6 +27,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -127,7 +128,8 @@ std::vector<std::pair<NamedMesh, NamedMesh>> meshPairs()
   return pairs;
 }
 
-/// Traversal counts of one query: FCL's oriented node for RSS / OBBRSS, ours for RS (initialize found by ADL).
+/// Traversal counts of one query: FCL's oriented node and recursion for RSS / OBBRSS, ours for RS (initialize found
+/// by ADL).
 template <typename Node, typename BV>
 void countTests(const fcl::BVHModel<BV>& m1, const Transform3d& tf1, const fcl::BVHModel<BV>& m2,
                 const Transform3d& tf2, double& bv_tests, double& leaf_tests)
@@ -137,7 +139,10 @@ void countTests(const fcl::BVHModel<BV>& m1, const Transform3d& tf1, const fcl::
   fcl::DistanceResult<S> result;
   if (!initialize(node, m1, tf1, m2, tf2, request, result)) throw std::logic_error("traversal set-up failed");
   node.enable_statistics = true;
-  fcl::detail::distance(&node, nullptr, 2);
+  if constexpr (std::is_same<Node, fcl_rs::MeshDistanceTraversalNodeRS<S>>::value)
+    fcl_rs::distanceTrees(node);  // the traversal fcl_rs::distance runs
+  else
+    fcl::detail::distance(&node, nullptr, 2);
   bv_tests += node.num_bv_tests;
   leaf_tests += node.num_leaf_tests;
 }

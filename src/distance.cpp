@@ -106,7 +106,14 @@ S distanceRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
   S res;
   if (m1 && m2)
   {
-    res = fcl::detail::orientedMeshDistance<MeshDistanceTraversalNodeRS<S>, RS<S>>(o1, tf1, o2, tf2, request, result);
+    // fcl::detail::orientedMeshDistance, with the descent of distanceTrees.
+    if (!request.isSatisfied(result))
+    {
+      MeshDistanceTraversalNodeRS<S> node;
+      initialize(node, *m1, tf1, *m2, tf2, request, result);
+      distanceTrees(node);
+    }
+    res = result.min_distance;
   }
   else
   {

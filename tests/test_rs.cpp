@@ -280,6 +280,43 @@ TYPED_TEST(RSTest, BoxExcessBoundsTheCornerCutsAndTheFilterIsExact)
   EXPECT_GT(separated_by_polytopes, 10);  // the exact stage is exercised
 }
 
+// The pair kernel's one rounding bound covers the change of frame: every vertex y2 of b2 (its frame) lands,
+// through the computed M y2 + t, within tol of its exact image in b1's frame (long double, exact inverse of the
+// stored frame), with both volumes and the transform far from the origin.
+TYPED_TEST(RSTest, PairFrameStaysWithinItsRoundingBound)
+{
+  using S = TypeParam;
+  using L = long double;
+  using VL = Eigen::Matrix<L, 3, 1>;
+  using ML = Eigen::Matrix<L, 3, 3>;
+  auto rng = seededRng("PairFrameStaysWithinItsRoundingBound");
+  std::uniform_real_distribution<double> far(-1000, 1000);
+  S worst = 0;  // largest error / tol
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    const fcl::Vector3<S> shift_a(S(far(rng)), S(far(rng)), S(far(rng))), shift_b(S(far(rng)), S(far(rng)), S(far(rng)));
+    auto a = randomCloud<S>(rng, trial, 12), b = randomCloud<S>(rng, trial + 1, 12);
+    for (auto& p : a) p += shift_a;
+    for (auto& p : b) p += shift_b;
+    const RS<S> ra = fitPoints<S>(a.data(), int(a.size())), rb = fitPoints<S>(b.data(), int(b.size()));
+    const fcl::Transform3<S> tf = randomPose<S>(rng, S(1000));
+    const detail::PairFrame<S> f(tf.linear(), tf.translation(), ra, rb);
+    const ML R = tf.linear().template cast<L>(), A1 = ra.axis.template cast<L>();
+    const ML A2_inverse_transpose = rb.axis.template cast<L>().inverse().transpose();
+    const VL T = tf.translation().template cast<L>(), o1 = ra.origin.template cast<L>(), o2 = rb.origin.template cast<L>();
+    for (const auto& y2 : rb.corners())
+    {
+      const VL x2 = A2_inverse_transpose * y2.template cast<L>() + o2;
+      const VL exact = A1.transpose() * (R * x2 + T - o1);
+      const fcl::Vector3<S> computed = f.M * y2 + f.t;
+      const S error = S((computed.template cast<L>() - exact).cwiseAbs().maxCoeff());
+      ASSERT_LE(error, f.tol) << "trial " << trial;
+      worst = std::max(worst, error / f.tol);
+    }
+  }
+  std::cout << "largest frame error / rounding bound: " << worst << "\n";
+}
+
 TYPED_TEST(RSTest, DistanceIsALowerBound)
 {
   using S = TypeParam;

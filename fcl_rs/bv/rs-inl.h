@@ -401,20 +401,42 @@ struct Box
     : c((b.lo.template head<3>() + b.hi.template head<3>()) / 2), h((b.hi.template head<3>() - b.lo.template head<3>()) / 2)
   {
   }
+  /// How far the box reaches from its frame's origin along an axis; every slab value of the volume is at most
+  /// sqrt(2) times this (the polytope lies in the box), so it scales the rounding of anything computed from it.
+  S reach() const { return (c.cwiseAbs() + h).maxCoeff(); }
   fcl::Vector3<S> c, h;
 };
 
-/// b2 expressed in b1's frame (y1 = M y2 + t), both principal boxes, and the rounding tolerance of
-/// tests made there.
+/// The one rounding bound of every pair test (overlap variants, distance bounds, mesh-shape bounds): an upper
+/// bound on the error of a comparison made in b1's frame between quantities derived from two volumes.
+/// `offsets` is the L1 size of the translations the relative frame is built from (|R o2|_1 + |T|_1 + |o1|_1),
+/// `reaches` the sum of both boxes' reach(). With u = eps:
+///  - M = A1^T (R A2): two nested 3-term dot products of entries <= 1, plus the stored frames' departure from
+///    orthonormality (the fits pad for the rounding of A^T x, not for A^-T = A): <= 16u per entry, so a point
+///    y2 of b2 (|y2|_1 <= 3 reach2) moves by <= 48u reach2;
+///  - t = A1^T (R o2 + T - o1): two 3-term products and two sums, <= 8u offsets per coordinate;
+///  - box projections, supports and corner coordinates are sums of <= 6 products of values <= sqrt(2) times
+///    the reaches (|dir| <= 1): <= 12 sqrt(2) u (reach1 + reach2).
+/// First-order total <= 8u offsets + 66u reaches; the bound doubles it at least (higher-order terms, float).
 template <typename S>
-struct RelativeFrame
+S pairRoundingBound(S offsets, S reaches)
+{
+  return 32 * eps<S>() * (offsets + 9 * reaches);
+}
+
+/// The pair kernel: b2 expressed in b1's frame (y1 = M y2 + t), both principal boxes, each box's centre in the
+/// other's frame, and the rounding bound of tests made there.
+template <typename S>
+struct PairFrame
 {
   fcl::Matrix3<S> M;
   fcl::Vector3<S> t;
   Box<S> box1, box2;
+  fcl::Vector3<S> centre2;  ///< b2's box centre in b1's frame
+  fcl::Vector3<S> centre1;  ///< b1's box centre in b2's frame
   S tol;
 
-  RelativeFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
+  PairFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
     : box1(b1), box2(b2)
   {
     const fcl::Vector3<S> o2 = R * b2.origin;
@@ -422,13 +444,24 @@ struct RelativeFrame
     RB.noalias() = R.lazyProduct(b2.axis);
     M.noalias() = b1.axis.transpose().lazyProduct(RB);
     t.noalias() = b1.axis.transpose() * (o2 + T - b1.origin);
-    // t loses a few ulps of the magnitudes it is computed from; corners and projections a few ulps
-    // of the volumes' extents (every point of a volume lies within its box).
-    tol = 32 * eps<S>() *
-          (o2.template lpNorm<1>() + T.template lpNorm<1>() + b1.origin.template lpNorm<1>() +
-           3 * (box1.c.cwiseAbs() + box1.h + box2.c.cwiseAbs() + box2.h).maxCoeff());
+    centre2.noalias() = M * box2.c + t;
+    centre1.noalias() = M.transpose() * (box1.c - t);
+    tol = pairRoundingBound<S>(o2.template lpNorm<1>() + T.template lpNorm<1>() + b1.origin.template lpNorm<1>(),
+                               box1.reach() + box2.reach());
   }
 };
+
+/// The vertex of b farthest along dir (both in b's frame): one of the 4 of dir's octant corner.
+template <typename S>
+fcl::Vector3<S> extremeVertex(const RS<S>& b, const fcl::Vector3<S>& dir)
+{
+  fcl::Vector3<S> v[4];
+  b.cornerVertices(octantOf(dir), v);
+  int arg = 0;
+  for (int i = 1; i < 4; ++i)
+    if (dir.dot(v[i]) > dir.dot(v[arg])) arg = i;
+  return v[arg];
+}
 
 /// One volume's principal box projected on the other volume's nine slab directions: each direction
 /// expressed in the projected volume's frame, and the box's interval mid +- radius along it.
@@ -465,30 +498,6 @@ S slabGap(S lo, S hi, const RS<S>& b, const Box<S>& box, const ProjectedBox<S>& 
   return std::max(lowest - hi, lo - highest);
 }
 
-/// Both volumes' boxes on the other's directions, with everything a test needs.
-template <typename S>
-struct PairProjection
-{
-  PairProjection(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1_, const RS<S>& b2_)
-    : b1(b1_), b2(b2_), f(R, T, b1_, b2_), on1(f.M, f.M * f.box2.c + f.t, f.box2),
-      on2(f.M.transpose(), f.M.transpose() * (f.box1.c - f.t), f.box1)
-  {
-  }
-
-  /// Gap along b1's slab k (k < 9) or b2's slab k - 9.
-  S gap(int k) const
-  {
-    return k < kNumSlabs ? slabGap(b1.lo[k], b1.hi[k], b2, f.box2, on1, k)
-                         : slabGap(b2.lo[k - kNumSlabs], b2.hi[k - kNumSlabs], b1, f.box1, on2, k - kNumSlabs);
-  }
-
-  const RS<S>& b1;
-  const RS<S>& b2;
-  RelativeFrame<S> f;
-  ProjectedBox<S> on1;  ///< b2's box on b1's directions
-  ProjectedBox<S> on2;  ///< b1's box on b2's directions
-};
-
 }  // namespace detail
 
 namespace detail {
@@ -497,10 +506,10 @@ namespace detail {
 template <OverlapTest test, typename S>
 bool overlapTest(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
 {
-  const RelativeFrame<S> f(R, T, b1, b2);
+  const PairFrame<S> f(R, T, b1, b2);
   const fcl::Matrix3<S>& M = f.M;
-  const fcl::Vector3<S> m2 = M * f.box2.c + f.t;                // b2's box centre in b1's frame
-  const fcl::Vector3<S> m1 = M.transpose() * (f.box1.c - f.t);  // b1's box centre in b2's frame
+  const fcl::Vector3<S>& m2 = f.centre2;
+  const fcl::Vector3<S>& m1 = f.centre1;
   constexpr bool exact_on_1 = test != OverlapTest::kBoxed, exact_on_2 = test == OverlapTest::kTwoSided;
 
   // Pass 1, boxes only: slab k of b1 (k < 9) or of b2 (k >= 9) against the other's principal box
@@ -582,13 +591,16 @@ S distance(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, 
            fcl::Vector3<S>* P, fcl::Vector3<S>* Q)
 {
   if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
-  const detail::PairProjection<S> p(R, T, b1, b2);
-  const detail::RelativeFrame<S>& f = p.f;
+  const detail::PairFrame<S> f(R, T, b1, b2);
+  const detail::ProjectedBox<S> on1(f.M, f.centre2, f.box2);              // b2's box on b1's directions
+  const detail::ProjectedBox<S> on2(f.M.transpose(), f.centre1, f.box1);  // b1's box on b2's directions
   S best = -std::numeric_limits<S>::max();
   int best_k = 0;
   for (int k = 0; k < 2 * kNumSlabs; ++k)
   {
-    const S gap = p.gap(k);
+    const S gap = k < kNumSlabs ? detail::slabGap(b1.lo[k], b1.hi[k], b2, f.box2, on1, k)
+                                : detail::slabGap(b2.lo[k - kNumSlabs], b2.hi[k - kNumSlabs], b1, f.box1, on2,
+                                                  k - kNumSlabs);
     if (gap > best) { best = gap; best_k = k; }
   }
   if (P || Q)
@@ -596,17 +608,9 @@ S distance(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, 
     // Extreme points of each volume along the best direction n (b1's frame), facing each other.
     fcl::Vector3<S> n = best_k < kNumSlabs ? detail::slabDirection<S>(best_k)
                                            : detail::slabOfColumns(f.M, best_k - kNumSlabs);
-    const fcl::Vector3<S> c1 = b1.toFrame(b1.center()), c2 = f.M * b2.toFrame(b2.center()) + f.t;
-    if (n.dot(c2 - c1) < 0) n = -n;
-    auto extreme = [](const RS<S>& b, const fcl::Vector3<S>& dir) {
-      const auto v = b.cornerVertices(detail::octantOf(dir));
-      int arg = 0;
-      for (int i = 1; i < 4; ++i)
-        if (dir.dot(v[i]) > dir.dot(v[arg])) arg = i;
-      return v[arg];
-    };
-    if (P) *P = b1.toModel(extreme(b1, n));
-    if (Q) *Q = b2.toModel(extreme(b2, -(f.M.transpose() * n)));
+    if (n.dot(f.centre2 - f.box1.c) < 0) n = -n;
+    if (P) *P = b1.toModel(detail::extremeVertex(b1, n));
+    if (Q) *Q = b2.toModel(detail::extremeVertex(b2, fcl::Vector3<S>(-(f.M.transpose() * n))));
   }
   return std::max(S(0), best - f.tol);
 }

@@ -104,6 +104,14 @@ private:
   RS<S> bv_;
 };
 
+/// The pair kernel's rounding bound for a node against a plane n . x = d (|n| = 1) in the node's model
+/// coordinates: the plane plays b1, with no extent of its own.
+template <typename S>
+S shapeRoundingBound(const RS<S>& node, S d)
+{
+  return detail::pairRoundingBound<S>(node.origin.template lpNorm<1>() + std::abs(d), detail::Box<S>(node).reach());
+}
+
 /// Halfspaces and planes are unbounded: exact support tests instead of a huge slab volume.
 template <typename S>
 class ShapeBound<S, fcl::Halfspace<S>>
@@ -116,15 +124,10 @@ public:
     if (node.empty()) return false;
     const fcl::Vector3<S> n = node.axis.transpose() * h_.n;
     const S lowest = h_.n.dot(node.origin) - node.support(-n);
-    return lowest <= h_.d + tolerance(node);
+    return lowest <= h_.d + shapeRoundingBound(node, h_.d);
   }
 
 private:
-  S tolerance(const RS<S>& node) const
-  {
-    return 32 * std::numeric_limits<S>::epsilon() *
-           (node.magnitude() + node.origin.template lpNorm<1>() + std::abs(h_.d));
-  }
   fcl::Halfspace<S> h_;
 };
 
@@ -139,8 +142,7 @@ public:
     if (node.empty()) return false;
     const fcl::Vector3<S> n = node.axis.transpose() * p_.n;
     const S at_origin = p_.n.dot(node.origin);
-    const S tol = 32 * std::numeric_limits<S>::epsilon() *
-                  (node.magnitude() + node.origin.template lpNorm<1>() + std::abs(p_.d));
+    const S tol = shapeRoundingBound(node, p_.d);
     return at_origin - node.support(-n) <= p_.d + tol && at_origin + node.support(n) >= p_.d - tol;
   }
 

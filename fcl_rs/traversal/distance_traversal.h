@@ -6,6 +6,8 @@
 #include <limits>
 #include <memory>
 #include <type_traits>
+#include <utility>
+#include <vector>
 
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/detail/traversal/distance/mesh_distance_traversal_node.h>
@@ -33,24 +35,17 @@ S distanceLowerBound(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const R
 {
   if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
   using V = fcl::Vector3<S>;
-  // b2's frame in b1's frame: y1 = M y2 + t.
-  const V o2 = R * b2.origin;
-  const fcl::Matrix3<S> M = b1.axis.transpose() * (R * b2.axis);
-  const V t = b1.axis.transpose() * (o2 + T - b1.origin);
-  // t carries a few ulps of the magnitudes it comes from; corners and supports a few ulps of the slab values.
-  const S tol = 32 * std::numeric_limits<S>::epsilon() *
-                (o2.template lpNorm<1>() + T.template lpNorm<1>() + b1.origin.template lpNorm<1>() +
-                 6 * (b1.magnitude() + b2.magnitude()));
+  const detail::PairFrame<S> f(R, T, b1, b2);
+  const fcl::Matrix3<S>& M = f.M;
   S best = 0;
   const auto improve = [&](S g) {
-    best = std::max(best, g - tol);
+    best = std::max(best, g - f.tol);
     return best >= enough;
   };
-  // Principal boxes in b1's frame: centres, half extents, and the vector c from b1's centre to b2's.
-  const V h1 = (b1.hi.template head<3>() - b1.lo.template head<3>()) / 2;
-  const V h2 = (b2.hi.template head<3>() - b2.lo.template head<3>()) / 2;
-  const V c = M * ((b2.lo.template head<3>() + b2.hi.template head<3>()) / 2) + t -
-              (b1.lo.template head<3>() + b1.hi.template head<3>()) / 2;
+  // Principal boxes in b1's frame: half extents, and the vector c from b1's centre to b2's.
+  const V& h1 = f.box1.h;
+  const V& h2 = f.box2.h;
+  const V c = f.centre2 - f.box1.c;
   const fcl::Matrix3<S> A = M.cwiseAbs();
   // Box gaps along b1's axes (b2's box reaches h2 . |row i of M| along axis i) and b2's axes.
   const V gaps1 = c.cwiseAbs() - h1 - A * h2;
@@ -61,18 +56,9 @@ S distanceLowerBound(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const R
   const V n = c / length;
   if (improve(length - h1.dot(n.cwiseAbs()) - h2.dot((M.transpose() * n).cwiseAbs()))) return best;
   // The polytopes, exactly: lowest point of b2 along unit m (b1's frame) minus b1's highest.
-  const auto gap = [&](const V& m) { return m.dot(t) - b2.support(-(M.transpose() * m)) - b1.support(m); };
+  const auto gap = [&](const V& m) { return m.dot(f.t) - b2.support(-(M.transpose() * m)) - b1.support(m); };
   if (improve(gap(n))) return best;
-  // The volume's vertex farthest along dir (frame coordinates): one of the 4 of dir's octant corner.
-  const auto extreme = [](const RS<S>& b, const V& dir) {
-    V v[4];
-    b.cornerVertices((dir[0] < 0 ? 1 : 0) | (dir[1] < 0 ? 2 : 0) | (dir[2] < 0 ? 4 : 0), v);
-    int arg = 0;
-    for (int i = 1; i < 4; ++i)
-      if (dir.dot(v[i]) > dir.dot(v[arg])) arg = i;
-    return v[arg];
-  };
-  const V between = M * extreme(b2, -(M.transpose() * n)) + t - extreme(b1, n);
+  const V between = M * detail::extremeVertex(b2, V(-(M.transpose() * n))) + f.t - detail::extremeVertex(b1, n);
   if (between.squaredNorm() > 0) improve(gap(between.normalized()));
   return best;
 }
@@ -125,6 +111,68 @@ public:
 private:
   S start_distance_ = 0;
 };
+
+/// Runs the mesh-mesh distance traversal of node (preprocess, descent, postprocess): FCL's ordered descent
+/// (split the larger node, bound both children, visit the nearer first, skip a pair once its bound cannot
+/// improve the result, re-checked when it is reached) on an explicit stack with direct calls (FCL's recursion
+/// makes about nine virtual calls per visited pair). Unlike FCL, a child pair of two leaves is measured at once
+/// instead of bounded.
+template <typename S>
+void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
+{
+  using Node = MeshDistanceTraversalNodeRS<S>;
+  const fcl::BVHModel<RS<S>>& model1 = *node.model1;
+  const fcl::BVHModel<RS<S>>& model2 = *node.model2;
+  struct Pair
+  {
+    int b1, b2;
+    S bound;
+  };
+  // A pair of leaves is bounded by its triangles' distance itself, which is exact and cheaper than an RS bound
+  // (docs/kernel.md): it is measured at once, and the pair is never visited again.
+  const auto bound = [&](int b1, int b2) {
+    if (!model1.getBV(b1).isLeaf() || !model2.getBV(b2).isLeaf()) return node.Node::BVTesting(b1, b2);
+    node.Node::leafTesting(b1, b2);
+    return std::numeric_limits<S>::max();
+  };
+  node.Node::preprocess();
+  std::vector<Pair> stack;
+  stack.reserve(128);
+  stack.push_back({0, 0, S(0)});
+  while (!stack.empty())
+  {
+    const Pair pair = stack.back();
+    stack.pop_back();
+    if (pair.b1 != 0 || pair.b2 != 0)
+      if (node.Node::canStop(pair.bound)) continue;
+    const fcl::BVNode<RS<S>>& n1 = model1.getBV(pair.b1);
+    const fcl::BVNode<RS<S>>& n2 = model2.getBV(pair.b2);
+    const bool leaf1 = n1.isLeaf(), leaf2 = n2.isLeaf();
+    if (leaf1 && leaf2)
+    {
+      node.Node::leafTesting(pair.b1, pair.b2);
+      continue;
+    }
+    Pair a{pair.b1, pair.b2, S(0)}, c = a;
+    if (leaf2 || (!leaf1 && n1.bv.size() > n2.bv.size()))
+    {
+      a.b1 = n1.leftChild();
+      c.b1 = n1.rightChild();
+    }
+    else
+    {
+      a.b2 = n2.leftChild();
+      c.b2 = n2.rightChild();
+    }
+    a.bound = bound(a.b1, a.b2);
+    c.bound = bound(c.b1, c.b2);
+    // The nearer pair goes on top; ties visit the left child first, as FCL does.
+    if (c.bound < a.bound) std::swap(a, c);
+    stack.push_back(c);
+    stack.push_back(a);
+  }
+  node.Node::postprocess();
+}
 
 /// Sets up node for model1 at tf1 against model2 at tf2; false unless both are triangle meshes.
 /// Unlike FCL's oriented nodes (whose constructor reads rel_err and abs_err from a default request, so
