@@ -8,13 +8,14 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "bench_common.h"
+#include "common/command_line.h"
+#include "common/csv_writer.h"
 
 namespace fcl_rs {
 namespace bench {
@@ -31,65 +32,26 @@ struct Options
   std::string csv;
 };
 
-const char* kUsage =
-    "Usage: fcl_rs_bench_batch [options]\n"
-    "  --robot URDF   robot for the self-collision batch (default: the shared panda)\n"
-    "  --srdf FILE    its disabled pairs (default: the shared panda's SRDF with the default robot)\n"
-    "  -n N           configurations per robot batch (default 20000)\n"
-    "  --distance-configurations N  configurations of the batch with pairs and minimum distance (default 500;\n"
-    "                 0 skips it)\n"
-    "  --poses N      pose pairs per mesh batch (default 4000)\n"
-    "  --repeat R     runs per thread count, interleaved (default 7)\n"
-    "  --threads LIST comma-separated thread counts (default 1,2)\n"
-    "  --seed S       configuration seed (default 1; fcl_rs.Robot.random_configurations(n, S) draws the same)\n"
-    "  --robot-only   skip the mesh batches\n"
-    "  --csv FILE     also write the results to FILE as CSV\n";
-
-Options parse(int argc, char** argv)
+void addOptions(CLI::App& app, Options& o)
 {
-  Options o;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string a = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--robot") o.robot = value();
-    else if (a == "--srdf") o.srdf = value();
-    else if (a == "-n") o.configurations = number(a, value());
-    else if (a == "--distance-configurations") o.distance_configurations = number(a, value());
-    else if (a == "--poses") o.poses = number(a, value());
-    else if (a == "--repeat") o.repeat = int(number(a, value()));
-    else if (a == "--seed") o.seed = number(a, value());
-    else if (a == "--robot-only") o.robot_only = true;
-    else if (a == "--csv") o.csv = value();
-    else if (a == "--threads")
-    {
-      o.threads.clear();
-      std::string list = value();
-      for (std::size_t start = 0; start <= list.size();)
-      {
-        const std::size_t comma = std::min(list.find(',', start), list.size());
-        o.threads.push_back(int(number(a, list.substr(start, comma - start))));
-        start = comma + 1;
-      }
-    }
-    else if (a == "-h" || a == "--help")
-    {
-      std::cout << kUsage;
-      std::exit(0);
-    }
-    else
-      throw std::invalid_argument("unknown option '" + a + "'\n" + kUsage);
-  }
-  if (o.robot.empty())
-  {
-    o.robot = std::string(FCL_RS_SHARED_DATA_DIR) + "/robots/panda/panda.urdf";
-    if (o.srdf.empty()) o.srdf = std::string(FCL_RS_SHARED_DATA_DIR) + "/robots/panda/panda.srdf";
-  }
-  if (o.repeat < 1) throw std::invalid_argument("--repeat needs at least 1");
-  return o;
+  app.add_option("--robot", o.robot, "robot for the self-collision batch (default: the shared panda)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--srdf", o.srdf, "its disabled pairs (default: the shared panda's SRDF with the default robot)")
+      ->check(CLI::ExistingFile);
+  app.add_option("-n", o.configurations, "configurations per robot batch")->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--distance-configurations", o.distance_configurations,
+                 "configurations of the batch with pairs and minimum distance (0 skips it)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--poses", o.poses, "pose pairs per mesh batch")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--repeat", o.repeat, "runs per thread count, interleaved")->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--threads", o.threads, "thread counts")->delimiter(',')->check(CLI::Range(1, 1024))
+      ->capture_default_str();
+  app.add_option("--seed", o.seed, "configuration seed (fcl_rs.Robot.random_configurations(n, S) draws the same)")
+      ->capture_default_str();
+  app.add_flag("--robot-only", o.robot_only, "skip the mesh batches");
+  app.add_option("--csv", o.csv, "also write the results to FILE as CSV");
 }
 
 double processCpuSeconds()
@@ -261,17 +223,17 @@ int run(const Options& o)
               load_after.c_str(), o.repeat);
   if (!o.csv.empty())
   {
-    std::ofstream out(o.csv);
-    out << "workload,threads,queries,min_wall_s,median_wall_s,queries_per_s,median_cpu_us_per_query,"
-           "busiest_thread_cpu_s,wall_speedup,cpu_speedup_estimate,equal_to_first,load_after_1min\n";
+    tools::CsvWriter csv(o.csv, {"workload", "threads", "queries", "min_wall_s", "median_wall_s", "queries_per_s",
+                                 "median_cpu_us_per_query", "busiest_thread_cpu_s", "wall_speedup",
+                                 "cpu_speedup_estimate", "equal_to_first", "load_after_1min"});
     for (const Row& r : rows)
     {
       const auto [wall_speedup, cpu_speedup] = speedups(r);
-      out << r.workload << ',' << r.threads << ',' << r.queries << ',' << r.min_wall << ',' << r.median_wall << ','
-          << double(r.queries) / r.min_wall << ',' << 1e6 * r.median_cpu / double(r.queries) << ',' << r.min_busiest
-          << ',' << wall_speedup << ',' << cpu_speedup << ',' << (r.equal ? 1 : 0) << ','
-          << load_after.substr(0, load_after.find(' ')) << '\n';
+      csv.row({r.workload, r.threads, r.queries, r.min_wall, r.median_wall, double(r.queries) / r.min_wall,
+               1e6 * r.median_cpu / double(r.queries), r.min_busiest, wall_speedup, cpu_speedup, r.equal ? 1 : 0,
+               load_after.substr(0, load_after.find(' '))});
     }
+    csv.close();
     std::printf("CSV written to %s\n", o.csv.c_str());
   }
   for (const Row& r : rows)
@@ -285,9 +247,21 @@ int run(const Options& o)
 
 int main(int argc, char** argv)
 {
+  fcl_rs::bench::Options o;
+  CLI::App app("Batch throughput per thread count (queries/s, speed-up over one thread) for a robot's self-collision\n"
+               "batch and a mesh pair's collide and distance batches; every thread count's answers are compared\n"
+               "with one thread's.",
+               "fcl_rs_bench_batch");
+  fcl_rs::bench::addOptions(app, o);
+  if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
+  if (o.robot.empty())
+  {
+    o.robot = std::string(FCL_RS_SHARED_DATA_DIR) + "/robots/panda/panda.urdf";
+    if (o.srdf.empty()) o.srdf = std::string(FCL_RS_SHARED_DATA_DIR) + "/robots/panda/panda.srdf";
+  }
   try
   {
-    return fcl_rs::bench::run(fcl_rs::bench::parse(argc, argv));
+    return fcl_rs::bench::run(o);
   }
   catch (const std::exception& e)
   {
