@@ -186,6 +186,29 @@ TYPED_TEST(RSTest, MergeContainsBothInputs)
   }
 }
 
+// Volumes far smaller than their distance from the model origin: merging must not round at the origin's
+// magnitude (fuzz_rs found a float merge 254 from the origin that missed a point of a 3e-4 volume).
+TYPED_TEST(RSTest, MergeFarFromTheOriginContainsBothInputs)
+{
+  using S = TypeParam;
+  auto rng = seededRng("MergeFarFromTheOriginContainsBothInputs");
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 400; ++trial)
+  {
+    const double offset = std::ldexp(1.0, trial % 12), size = 1e-4 * offset * std::ldexp(1.0, -(trial % 5));
+    const Eigen::Vector3d base = offset * Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    auto cloud = [&](int n) {
+      std::vector<fcl::Vector3<S>> pts;
+      for (int i = 0; i < n; ++i) pts.push_back((base + size * Eigen::Vector3d(u(rng), u(rng), u(rng))).cast<S>());
+      return pts;
+    };
+    const auto a = cloud(3 + trial % 9), b = cloud(2 + trial % 7);
+    const RS<S> merged = fitPoints<S>(a.data(), int(a.size())) + fitPoints<S>(b.data(), int(b.size()));
+    for (const auto& p : a) ASSERT_TRUE(merged.contain(p)) << "trial " << trial << " offset " << offset;
+    for (const auto& p : b) ASSERT_TRUE(merged.contain(p)) << "trial " << trial << " offset " << offset;
+  }
+}
+
 TYPED_TEST(RSTest, OverlapIsSymmetricAndConservative)
 {
   using S = TypeParam;
