@@ -859,8 +859,9 @@ void checkMeshShapes(const Mesh<S>& mesh, int poses_per_shape = 25, int grazing_
                 << "\n";
       if (graze)
       {
-        if (t.failing_poses < kMaxFailingPoses)
+        if (t.failing_poses < kMaxFailingPoses) {
           EXPECT_GE(t.poses, 2 * grazing_per_shape) << what << " " << names[kind] << ": too few grazing poses found";
+        }
         continue;
       }
       total += t.poses;
@@ -1048,7 +1049,9 @@ void checkStats(const TriangleMesh<typename BV::S>& m1, const TriangleMesh<typen
         fcl_rs::collideWithStats(*a, poses[i].first, *b, poses[i].second, fcl::CollisionRequest<S>(), first);
     EXPECT_GT(st.num_bv_tests, 0);
     EXPECT_GE(st.num_leaf_tests, int(res.numContacts())) << "every reported pair was leaf-tested";
-    if (verdicts[i]) EXPECT_GT(st.num_leaf_tests, 0);
+    if (verdicts[i]) {
+      EXPECT_GT(st.num_leaf_tests, 0);
+    }
     EXPECT_EQ(res.isCollision(), bool(verdicts[i]));
     EXPECT_EQ(first.isCollision(), bool(verdicts[i]));
     // A first-contact query stops early, so it never tests more than the exhaustive one on the same trees.

@@ -116,8 +116,9 @@ TYPED_TEST(PcaTest, FarFromTheOriginTheAxesSurvive)
     expectRotation(f.axis);
     // The stored points themselves carry an error of ulp(offset); the normal is only as good as that.
     const double point_error = double(std::numeric_limits<S>::epsilon()) * offset;
-    if (point_error < 1e-5)
+    if (point_error < 1e-5) {
       EXPECT_NEAR(std::abs(f.axis.col(2).dot(tf.linear().col(2))), S(1), S(1e-3)) << "offset " << offset;
+    }
   }
 }
 

@@ -35,7 +35,9 @@ void expectNodesContainTheirTriangles(const fcl::BVHModel<RS<S>>& model, const s
   for (int k = 0; k < model.getNumBVs(); ++k)
   {
     const auto& node = model.getBV(k);
-    if (node.isLeaf()) EXPECT_EQ(node.num_primitives, 1) << what << " leaf " << k;
+    if (node.isLeaf()) {
+      EXPECT_EQ(node.num_primitives, 1) << what << " leaf " << k;
+    }
     for (int i = node.first_primitive; i < node.first_primitive + node.num_primitives; ++i)
       for (int c = 0; c < 3; ++c)
         missing += !node.bv.contain(model.vertices[model.tri_indices[order[std::size_t(i)]][c]]);
