@@ -25,7 +25,8 @@ struct BatchOptions
 
 /// Calls body(begin, end) on disjoint ranges covering [0, n), concurrently as `options` allows. body must be
 /// safe to call from several threads at once on different ranges. Exceptions thrown by body propagate (the
-/// first one oneTBB catches); throws std::invalid_argument for a negative thread count.
+/// first one caught); throws std::invalid_argument for a negative thread count. Runs on oneTBB, or on plain
+/// std::threads in builds with FCL_RS_BATCH_STD_THREADS (for ThreadSanitizer, see docs/batch.md).
 void parallelFor(std::size_t n, const BatchOptions& options,
                  const std::function<void(std::size_t begin, std::size_t end)>& body);
 

@@ -7,7 +7,7 @@
 #   Without --quick, then, each in its own build directory:
 #     build-asan  (clang, -O1) every GoogleTest case under AddressSanitizer + UndefinedBehaviorSanitizer, then
 #                 each libFuzzer target for FCL_RS_FUZZ_SECONDS s (default 60) from seed FCL_RS_FUZZ_SEED (default 1)
-#     build-tsan  tests/test_concurrency under ThreadSanitizer
+#     build-tsan  tests/test_concurrency and tests/test_batch under ThreadSanitizer (the batch on std::threads)
 #   Details and how to run one stage alone: docs/robustness.md.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -56,11 +56,15 @@ cmake --build "$asan" -j2 --target "${tests[@]}" fuzz_mesh_load fuzz_rs
 # The GoogleTest cases (label unit); the other CTest tests run the examples and tools, not built here.
 (cd "$asan" && ctest --output-on-failure -j2 -L unit)
 
-stage "ThreadSanitizer: test_concurrency (build-tsan)"
+stage "ThreadSanitizer: test_concurrency and test_batch (build-tsan)"
+# The batch runs on std::threads here (FCL_RS_BATCH_STD_THREADS): Debian's oneTBB is not instrumented, so TSan
+# would report races inside it (docs/batch.md). The Concurrency cases of both tests, and test_batch's Batch
+# cases (errors thrown on worker threads).
 tsan="$root/build-tsan"
-cmake -S "$root" -B "$tsan" $(generator "$tsan") "${sanitized[@]}" -DFCL_RS_SANITIZE=thread > /dev/null
-cmake --build "$tsan" -j2 --target test_concurrency
-(cd "$tsan" && ctest --output-on-failure -j2 -L unit -R '^Concurrency\.')
+cmake -S "$root" -B "$tsan" $(generator "$tsan") "${sanitized[@]}" -DFCL_RS_SANITIZE=thread \
+  -DFCL_RS_BATCH_STD_THREADS=ON > /dev/null
+cmake --build "$tsan" -j2 --target test_concurrency test_batch
+(cd "$tsan" && ctest --output-on-failure -j2 -L unit -R '^(Concurrency|Batch)\.')
 
 seconds="${FCL_RS_FUZZ_SECONDS:-60}"
 seed="${FCL_RS_FUZZ_SEED:-1}"

@@ -1,13 +1,23 @@
-// parallelFor on oneTBB, and the pose-pair batches on top of it.
+// parallelFor on oneTBB (or on plain std::threads with FCL_RS_BATCH_STD_THREADS, for ThreadSanitizer), and the
+// pose-pair batches on top of it.
 #include "fcl_rs/batch.h"
 
 #include <stdexcept>
 #include <string>
 
+#ifdef FCL_RS_BATCH_STD_THREADS
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <system_error>
+#include <thread>
+#else
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#endif
 
 #include "fcl_rs/collide.h"
 #include "fcl_rs/distance.h"
@@ -26,6 +36,42 @@ void parallelFor(std::size_t n, const BatchOptions& options,
     body(0, n);
     return;
   }
+#ifdef FCL_RS_BATCH_STD_THREADS
+  // Debian's oneTBB is not TSan-instrumented, so TSan cannot see its synchronisation and reports races in it;
+  // this backend's only synchronisation (an atomic counter, a mutex, join) is visible to TSan, so every report
+  // is about the queries. Indices are handed out one at a time, as oneTBB's grain 1 does.
+  const std::size_t threads = std::min<std::size_t>(
+      n, options.num_threads > 0 ? std::size_t(options.num_threads) : std::max(1u, std::thread::hardware_concurrency()));
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  const auto work = [&] {
+    for (std::size_t i = next++; i < n; i = next++)
+    {
+      try
+      {
+        body(i, i + 1);
+      }
+      catch (...)
+      {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = n;  // the other threads stop after their current index
+      }
+    }
+  };
+  std::vector<std::thread> workers;
+  try
+  {
+    for (std::size_t t = 1; t < threads; ++t) workers.emplace_back(work);
+  }
+  catch (const std::system_error&)  // no more threads to be had: the ones running share the work
+  {
+  }
+  work();
+  for (std::thread& w : workers) w.join();
+  if (error) std::rethrow_exception(error);
+#else
   // Grain 1: queries cost from microseconds to milliseconds each, so oneTBB's auto-partitioner balances.
   const auto run = [&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n),
@@ -40,6 +86,7 @@ void parallelFor(std::size_t n, const BatchOptions& options,
   // than CPUs is the caller's choice). Concurrent batches' controls combine to the largest.
   const tbb::global_control allow(tbb::global_control::max_allowed_parallelism, std::size_t(options.num_threads));
   tbb::task_arena(options.num_threads).execute(run);
+#endif
 }
 
 namespace {

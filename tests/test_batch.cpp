@@ -1,5 +1,5 @@
 // Batches (issue 16): every thread count gives exactly the single-query answers (the threaded cases form the
-// Concurrency suite; Debian's oneTBB is not TSan-instrumented, see docs/batch.md).
+// Concurrency suite, which CI also runs under ThreadSanitizer with the batch on std::threads: docs/batch.md).
 #include <memory>
 #include <vector>
 
