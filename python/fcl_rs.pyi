@@ -103,7 +103,8 @@ def distance_batch(a: Geometry, poses_a: ArrayLike, b: Geometry, poses_b: ArrayL
 class Robot:
     """A URDF robot (SRDF disabled pairs optional) with a self-collision checker."""
     def __init__(self, urdf: str, srdf: str = "", bv: str = "RS") -> None:
-        """Loads the URDF and its collision meshes; bv is one of RS, OBBRSS, OBB, RSS, KDOP18."""
+        """Loads the URDF and its collision meshes; bv is one of RS, OBBRSS, OBB, RSS (OBB: no minimum_distance).
+        KDOP18 raises ValueError: its trees are refitted in place per check, so checks could not share them."""
     @property
     def name(self) -> str: ...
     @property

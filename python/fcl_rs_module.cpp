@@ -73,12 +73,26 @@ py::array_t<double> vector3(const fcl::Vector3d& v)
   return py::array_t<double>(3, v.data());
 }
 
-/// A robot loaded from URDF (and SRDF), with its RS self-collision checker.
+/// The BV type of a Robot: every type SelfCollision::query (behind all of Robot's checks) accepts. KDOP18 is
+/// refused here rather than at the first check: its trees are refitted in place in the world frame per check,
+/// so they cannot be shared by the batch's threads or Python threads.
+BVType robotBVType(const std::string& name)
+{
+  const BVType bv = parseBVType(name);
+  if (bv != BVType::kKDOP18) return bv;
+  std::string names;
+  for (BVType other : kRobotBVTypes)
+    if (other != BVType::kKDOP18) names += std::string(names.empty() ? "" : ", ") + bvTypeName(other);
+  throw std::invalid_argument("fcl_rs.Robot: bv 'KDOP18' is not supported (its trees are refitted in place per "
+                              "check, so checks could not share them across threads); use one of " + names);
+}
+
+/// A robot loaded from URDF (and SRDF), with its self-collision checker.
 struct Robot
 {
   Robot(const std::string& urdf, const std::string& srdf, const std::string& bv)
     : model(loadUrdf(urdf)),
-      checker(model, parseBVType(bv), srdf.empty() ? std::vector<DisabledCollision>{}
+      checker(model, robotBVType(bv), srdf.empty() ? std::vector<DisabledCollision>{}
                                                    : loadDisabledCollisions(srdf, model))
   {
   }
@@ -269,7 +283,7 @@ PYBIND11_MODULE(fcl_rs, m)
   py::class_<Robot>(m, "Robot", "A URDF robot (SRDF disabled pairs optional) with a self-collision checker.")
       .def(py::init<const std::string&, const std::string&, const std::string&>(), py::arg("urdf"),
            py::arg("srdf") = "", py::arg("bv") = "RS",
-           "Loads the URDF and its collision meshes; bv is one of RS, OBBRSS, OBB, RSS, KDOP18.")
+           "Loads the URDF and its collision meshes; bv is one of RS, OBBRSS, OBB, RSS (OBB: no minimum_distance).")
       .def_property_readonly("name", [](const Robot& r) { return r.model.name; })
       .def_property_readonly("link_names", [](const Robot& r) { return r.checker.linkNames(); })
       .def_property_readonly("joint_names", [](const Robot& r) {

@@ -116,6 +116,16 @@ def test_robot_names_limits_and_batches(chain_urdf, rng):
     assert not flags["colliding"].flags.owndata
 
 
+def test_every_supported_bv_type_checks_like_rs(chain_urdf):
+    rs = fcl_rs.Robot(chain_urdf)
+    q = rs.random_configurations(100, seed=11)
+    expected = [rs.check(row) for row in q]
+    for bv in ("OBBRSS", "OBB", "RSS"):
+        robot = fcl_rs.Robot(chain_urdf, bv=bv)
+        assert [robot.check(row) for row in q] == expected, bv
+        assert np.array_equal(robot.check_batch(q, num_threads=2)["colliding"], [bool(p) for p in expected]), bv
+
+
 def test_errors_keep_the_library_messages(tmp_path, chain_urdf):
     with pytest.raises(ValueError, match="triangle 1 refers to vertex 4 but the mesh has 4 vertices"):
         fcl_rs.Mesh(np.eye(4, 3), [[0, 1, 2], [1, 2, 4]])
@@ -135,8 +145,11 @@ def test_errors_keep_the_library_messages(tmp_path, chain_urdf):
         robot.check_batch(np.zeros((3, 4)))
     with pytest.raises(ValueError, match="non-finite"):
         robot.check_batch(np.full((2, 5), np.nan), num_threads=2)
-    with pytest.raises(ValueError, match="KDOP18"):
-        fcl_rs.Robot(chain_urdf, bv="KDOP18").check_batch(np.zeros((1, 5)))
+    # Every check goes through the thread-safe const query, which KDOP18's refitted trees cannot serve:
+    # refused at construction, naming the types that work.
+    for name in ("KDOP18", "kdop18"):
+        with pytest.raises(ValueError, match=r"bv 'KDOP18' is not supported .* use one of RS, OBBRSS, OBB, RSS$"):
+            fcl_rs.Robot(chain_urdf, bv=name)
     box = fcl_rs.Box(1, 1, 1)
     with pytest.raises(ValueError, match=r"\(N, 4, 4\)"):
         fcl_rs.collide_batch(box, np.zeros((3, 3, 3)), box, np.zeros((3, 4, 4)))
