@@ -39,9 +39,10 @@ void parallelFor(std::size_t n, const BatchOptions& options,
 #ifdef FCL_RS_BATCH_STD_THREADS
   // Debian's oneTBB is not TSan-instrumented, so TSan cannot see its synchronisation and reports races in it;
   // this backend's only synchronisation (an atomic counter, a mutex, join) is visible to TSan, so every report
-  // is about the queries. Indices are handed out one at a time, as oneTBB's grain 1 does.
-  const std::size_t threads = std::min<std::size_t>(
-      n, options.num_threads > 0 ? std::size_t(options.num_threads) : std::max(1u, std::thread::hardware_concurrency()));
+  // is about the queries. Indices are handed out one at a time from a shared counter, so uneven queries balance.
+  const std::size_t wanted = options.num_threads > 0 ? std::size_t(options.num_threads)
+                                                     : std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t threads = std::min(n, wanted);
   std::atomic<std::size_t> next{0};
   std::exception_ptr error;
   std::mutex error_mutex;
