@@ -30,6 +30,7 @@
 #include <fcl/narrowphase/collision_object.h>
 #include <fcl/narrowphase/detail/gjk_solver_indep.h>
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+#include <fcl/narrowphase/detail/traversal/collision_node.h>
 #include <gtest/gtest.h>
 
 #include "fcl_rs/collide_with_stats.h"
@@ -1103,6 +1104,37 @@ TYPED_TEST(CollideStats, EveryBVTypeCountsTestsAndAgrees)
   checkStats<fcl::KDOP<S, 16>>(sphere.tri, torus.tri, poses, verdicts, "KDOP16");
   checkStats<fcl::KDOP<S, 18>>(sphere.tri, torus.tri, poses, verdicts, "KDOP18");
   checkStats<fcl::KDOP<S, 24>>(sphere.tri, torus.tri, poses, verdicts, "KDOP24");
+}
+
+// collideTrees moves each node frame of the second tree once per query (detail::MovedFrames); FCL's recursion
+// over the same node calls the virtual BVTesting, which moves it in every test. Both descend alike, so a stale
+// or misplaced cached frame shows as a different count of tests or a different set of pairs.
+TYPED_TEST(CollideStats, CachedNodeFramesTestWhatFclsRecursionTests)
+{
+  using S = TypeParam;
+  const auto sphere = prepare<S>("sphere", fcl_rs::makeSphere<S>(1));
+  const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.3)));
+  auto rng = fcl_rs::test::seededRng("collide/cached_frames/" + scalarName<S>());
+  int colliding = 0;
+  for (int i = 0; i < 20; ++i)
+  {
+    const auto [tf1, tf2] = nearbyPoses(rng, sphere, torus, S(0.6), S(3));
+    const auto request = allContactsRequest<S>(false);
+    fcl::CollisionResult<S> cached_result, recursion_result;
+    fcl_rs::MeshCollisionTraversalNodeRS<S> cached, recursion;
+    ASSERT_TRUE(fcl_rs::initialize(cached, *sphere.rs, tf1, *torus.rs, tf2, request, cached_result));
+    ASSERT_TRUE(fcl_rs::initialize(recursion, *sphere.rs, tf1, *torus.rs, tf2, request, recursion_result));
+    cached.enable_statistics = recursion.enable_statistics = true;
+    fcl_rs::collideTrees(cached);
+    fcl::detail::collide(&recursion);
+    EXPECT_EQ(cached.num_bv_tests, recursion.num_bv_tests) << "pose #" << i;
+    EXPECT_EQ(cached.num_leaf_tests, recursion.num_leaf_tests) << "pose #" << i;
+    EXPECT_TRUE(fcl_rs::test::contactPairs(cached_result) == fcl_rs::test::contactPairs(recursion_result))
+        << "pose #" << i;
+    colliding += cached_result.isCollision();
+  }
+  EXPECT_GT(colliding, 0);
+  EXPECT_LT(colliding, 20);
 }
 
 }  // namespace

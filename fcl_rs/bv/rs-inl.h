@@ -428,6 +428,26 @@ S pairRoundingBound(S offsets, S reaches)
   return 32 * eps<S>() * (offsets + 9 * reaches);
 }
 
+/// The part of the pair kernel that depends on b2 and the query only: b2's frame moved by (R, T) into b1's model
+/// coordinates. A traversal computes it once per visited node of its second tree and reuses it for every node
+/// of the first tree that node meets; the arithmetic is the same as computing it per pair, bit for bit.
+template <typename S>
+struct MovedFrame
+{
+  /// Uninitialised, for arrays filled as a traversal reaches their nodes.
+  MovedFrame() = default;
+  MovedFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2)
+  {
+    const fcl::Vector3<S> o2 = R * b2.origin;
+    axis.noalias() = R.lazyProduct(b2.axis);
+    origin = o2 + T;
+    offsets = o2.template lpNorm<1>() + T.template lpNorm<1>();
+  }
+  fcl::Matrix3<S> axis;    ///< R A2
+  fcl::Vector3<S> origin;  ///< R o2 + T
+  S offsets;               ///< |R o2|_1 + |T|_1, the translations' part of pairRoundingBound's offsets
+};
+
 /// The pair kernel: b2 expressed in b1's frame (y1 = M y2 + t), both principal boxes, each box's centre in the
 /// other's frame, and the rounding bound of tests made there.
 template <typename S>
@@ -441,17 +461,18 @@ struct PairFrame
   S tol;
 
   PairFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
-    : box1(b1), box2(b2)
+    : PairFrame(MovedFrame<S>(R, T, b2), b1, b2)
   {
-    const fcl::Vector3<S> o2 = R * b2.origin;
-    fcl::Matrix3<S> RB;
-    RB.noalias() = R.lazyProduct(b2.axis);
-    M.noalias() = b1.axis.transpose().lazyProduct(RB);
-    t.noalias() = b1.axis.transpose() * (o2 + T - b1.origin);
+  }
+
+  /// moved2 = MovedFrame(R, T, b2).
+  PairFrame(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2) : box1(b1), box2(b2)
+  {
+    M.noalias() = b1.axis.transpose().lazyProduct(moved2.axis);
+    t.noalias() = b1.axis.transpose() * (moved2.origin - b1.origin);
     centre2.noalias() = M * box2.c + t;
     centre1.noalias() = M.transpose() * (box1.c - t);
-    tol = pairRoundingBound<S>(o2.template lpNorm<1>() + T.template lpNorm<1>() + b1.origin.template lpNorm<1>(),
-                               box1.reach() + box2.reach());
+    tol = pairRoundingBound<S>(moved2.offsets + b1.origin.template lpNorm<1>(), box1.reach() + box2.reach());
   }
 };
 
@@ -508,9 +529,9 @@ namespace detail {
 
 /// The overlap test, compiled once per variant so that the boxed test carries no exact stage.
 template <OverlapTest test, typename S>
-bool overlapTest(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
+bool overlapTest(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2)
 {
-  const PairFrame<S> f(R, T, b1, b2);
+  const PairFrame<S> f(moved2, b1, b2);
   const fcl::Matrix3<S>& M = f.M;
   const fcl::Vector3<S>& m2 = f.centre2;
   const fcl::Vector3<S>& m1 = f.centre1;
@@ -576,18 +597,26 @@ bool overlapTest(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>
   return true;
 }
 
+/// overlap() with b2's frame already moved: moved2 = MovedFrame(R, T, b2).
+template <typename S>
+bool overlap(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2, OverlapTest test)
+{
+  if (b1.empty() || b2.empty()) return false;
+  switch (test)
+  {
+    case OverlapTest::kOneSided: return overlapTest<OverlapTest::kOneSided>(moved2, b1, b2);
+    case OverlapTest::kBoxed: return overlapTest<OverlapTest::kBoxed>(moved2, b1, b2);
+    default: return overlapTest<OverlapTest::kTwoSided>(moved2, b1, b2);
+  }
+}
+
 }  // namespace detail
 
 template <typename S>
 bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2, OverlapTest test)
 {
   if (b1.empty() || b2.empty()) return false;
-  switch (test)
-  {
-    case OverlapTest::kOneSided: return detail::overlapTest<OverlapTest::kOneSided>(R, T, b1, b2);
-    case OverlapTest::kBoxed: return detail::overlapTest<OverlapTest::kBoxed>(R, T, b1, b2);
-    default: return detail::overlapTest<OverlapTest::kTwoSided>(R, T, b1, b2);
-  }
+  return detail::overlap(detail::MovedFrame<S>(R, T, b2), b1, b2, test);
 }
 
 template <typename S>

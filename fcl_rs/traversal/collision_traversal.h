@@ -12,6 +12,7 @@
 
 #include "fcl_rs/bv/rs.h"
 #include "fcl_rs/bv/rs_fit.h"
+#include "fcl_rs/traversal/moved_frames.h"
 
 namespace fcl_rs {
 
@@ -27,6 +28,13 @@ public:
   {
     if (this->enable_statistics) this->num_bv_tests++;
     return !overlap(R, T, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv, test);
+  }
+
+  /// BVTesting with model2's node frame already moved: moved2 = detail::MovedFrame(R, T, model2's node b2).
+  bool BVTesting(int b1, int b2, const detail::MovedFrame<S>& moved2) const
+  {
+    if (this->enable_statistics) this->num_bv_tests++;
+    return !detail::overlap(moved2, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv, test);
   }
 
   void leafTesting(int b1, int b2) const override
@@ -54,11 +62,14 @@ bool initialize(MeshCollisionTraversalNodeRS<S>& node, const fcl::BVHModel<RS<S>
 /// Runs the mesh-mesh traversal of node: FCL's depth-first order (split the larger node, left child
 /// first, stop once the request is satisfied) on an explicit stack with direct calls. FCL's generic
 /// recursion makes five virtual calls per visited pair, which costs about as much as an RS test.
+/// A node of model2 usually meets several nodes of model1, so its frame is moved into model1's coordinates
+/// once per query (MovedFrames), not once per test.
 template <typename S>
 void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
 {
   const fcl::BVHModel<RS<S>>& model1 = *node.model1;
   const fcl::BVHModel<RS<S>>& model2 = *node.model2;
+  detail::MovedFrames<S> moved(node.R, node.T, model2);
   std::vector<std::pair<int, int>> stack;
   stack.reserve(128);
   stack.emplace_back(0, 0);
@@ -66,7 +77,7 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
   {
     const auto [b1, b2] = stack.back();
     stack.pop_back();
-    if (node.MeshCollisionTraversalNodeRS<S>::BVTesting(b1, b2)) continue;
+    if (node.MeshCollisionTraversalNodeRS<S>::BVTesting(b1, b2, moved(b2))) continue;
     const fcl::BVNode<RS<S>>& n1 = model1.getBV(b1);
     const fcl::BVNode<RS<S>>& n2 = model2.getBV(b2);
     const bool leaf1 = n1.isLeaf(), leaf2 = n2.isLeaf();
@@ -96,11 +107,14 @@ public:
   ShapeBound(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh)
   {
     fcl::computeBV(shape, shape_in_mesh, bv_);
+    moved_ = detail::MovedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_);
   }
-  bool overlaps(const RS<S>& node) const { return node.overlap(bv_); }
+  /// node.overlap(bv_), with bv_'s frame moved once per query.
+  bool overlaps(const RS<S>& node) const { return detail::overlap(moved_, node, bv_, kDefaultOverlapTest); }
 
 private:
   RS<S> bv_;
+  detail::MovedFrame<S> moved_;
 };
 
 /// The pair kernel's rounding bound for a node against a plane n . x = d (|n| = 1) in the node's model

@@ -15,6 +15,7 @@
 
 #include "fcl_rs/bv/rs.h"
 #include "fcl_rs/bv/rs_fit.h"
+#include "fcl_rs/traversal/moved_frames.h"
 
 namespace fcl_rs {
 
@@ -29,13 +30,14 @@ namespace fcl_rs {
 /// the distance). Gaps are reduced by their rounding error, so the result never exceeds the true distance.
 /// fcl_rs::distance (all 18 slab directions of both volumes, exact supports) is tighter on a few pairs but
 /// costs more than the BV tests it saves (fcl_rs_bench_distance measured it).
+/// moved2 = detail::MovedFrame(R, T, b2) (the overload below builds it; traversals move each node once).
 template <typename S>
-S distanceLowerBound(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2,
+S distanceLowerBound(const detail::MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2,
                      S enough = std::numeric_limits<S>::max())
 {
   if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
   using V = fcl::Vector3<S>;
-  const detail::PairFrame<S> f(R, T, b1, b2);
+  const detail::PairFrame<S> f(moved2, b1, b2);
   const fcl::Matrix3<S>& M = f.M;
   S best = 0;
   const auto improve = [&](S g) {
@@ -61,6 +63,14 @@ S distanceLowerBound(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const R
   const V between = M * detail::extremeVertex(b2, V(-(M.transpose() * n))) + f.t - detail::extremeVertex(b1, n);
   if (between.squaredNorm() > 0) improve(gap(between.normalized()));
   return best;
+}
+
+/// distanceLowerBound for b2 mapped into b1's coordinates by x1 = R x2 + T.
+template <typename S>
+S distanceLowerBound(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2,
+                     S enough = std::numeric_limits<S>::max())
+{
+  return distanceLowerBound(detail::MovedFrame<S>(R, T, b2), b1, b2, enough);
 }
 
 /// Mesh-mesh distance in model1's frame, as FCL's MeshDistanceTraversalNodeRSS: a BV test bounds the
@@ -98,6 +108,14 @@ public:
                                  this->model2->getBV(b2).bv, this->result->min_distance);
   }
 
+  /// BVTesting with model2's node frame already moved: moved2 = detail::MovedFrame(tf, model2's node b2).
+  S BVTesting(int b1, int b2, const detail::MovedFrame<S>& moved2) const
+  {
+    if (this->enable_statistics) this->num_bv_tests++;
+    return distanceLowerBound<S>(moved2, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv,
+                                 this->result->min_distance);
+  }
+
   void leafTesting(int b1, int b2) const override
   {
     fcl::detail::meshDistanceOrientedNodeLeafTesting(b1, b2, this->model1, this->model2, this->vertices1,
@@ -116,7 +134,8 @@ private:
 /// (split the larger node, bound both children, visit the nearer first, skip a pair once its bound cannot
 /// improve the result, re-checked when it is reached) on an explicit stack with direct calls (FCL's recursion
 /// makes about nine virtual calls per visited pair). Unlike FCL, a child pair of two leaves is measured at once
-/// instead of bounded.
+/// instead of bounded. As in collideTrees, a node of model2 has its frame moved into model1's coordinates once
+/// per query, not once per bound.
 template <typename S>
 void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
 {
@@ -128,10 +147,14 @@ void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
     int b1, b2;
     S bound;
   };
+  const fcl::Matrix3<S> R = node.tf.linear();
+  const fcl::Vector3<S> T = node.tf.translation();
+  detail::MovedFrames<S> moved(R, T, model2);
   // A pair of leaves is bounded by its triangles' distance itself, which is exact and cheaper than an RS bound
   // (docs/kernel.md): it is measured at once, and the pair is never visited again.
   const auto bound = [&](int b1, int b2) {
-    if (!model1.getBV(b1).isLeaf() || !model2.getBV(b2).isLeaf()) return node.Node::BVTesting(b1, b2);
+    if (!model1.getBV(b1).isLeaf() || !model2.getBV(b2).isLeaf())
+      return node.Node::BVTesting(b1, b2, moved(b2));
     node.Node::leafTesting(b1, b2);
     return std::numeric_limits<S>::max();
   };
@@ -197,14 +220,13 @@ public:
   ShapeDistanceBound(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh)
   {
     fcl::computeBV(shape, shape_in_mesh, bv_);
+    moved_ = detail::MovedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_);
   }
-  S distance(const RS<S>& node, S enough) const
-  {
-    return distanceLowerBound<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), node, bv_, enough);
-  }
+  S distance(const RS<S>& node, S enough) const { return distanceLowerBound<S>(moved_, node, bv_, enough); }
 
 private:
   RS<S> bv_;
+  detail::MovedFrame<S> moved_;  ///< bv_'s frame, moved once per query
 };
 
 /// Mesh-shape distance as FCL's MeshShapeDistanceTraversalNodeRSS, but with the shape bounded in the
