@@ -124,7 +124,8 @@ TYPED_TEST(RSTest, FitContainsEveryPointAndCornersBoundThePolytope)
       EXPECT_GE(on_planes, 3) << "trial " << trial << " corner " << c;
     }
     // The corners' hull contains every point: no direction finds a point beyond the corners, and
-    // the octant trick (4 vertices) gives the same support as all 32 corners.
+    // the octant trick (4 vertices) gives the same support as all 32 corners; extremeVertex is a corner
+    // where that support is attained.
     for (int d = 0; d < 50; ++d)
     {
       const fcl::Vector3<S> dir = fcl::Vector3<S>(S(g(rng)), S(g(rng)), S(g(rng))).normalized();
@@ -132,6 +133,11 @@ TYPED_TEST(RSTest, FitContainsEveryPointAndCornersBoundThePolytope)
       for (const auto& c : corners) all = std::max(all, dir.dot(c));
       EXPECT_NEAR(bv.support(dir), all, tolerance(scale));
       for (const auto& p : pts) ASSERT_LE(dir.dot(bv.toFrame(p)), bv.support(dir) + tolerance(scale));
+      const fcl::Vector3<S> extreme = detail::extremeVertex(bv, dir);
+      EXPECT_NEAR(dir.dot(extreme), all, tolerance(scale)) << "trial " << trial;
+      S nearest_corner = std::numeric_limits<S>::max();
+      for (const auto& c : corners) nearest_corner = std::min(nearest_corner, (c - extreme).norm());
+      EXPECT_LE(nearest_corner, tolerance(scale)) << "trial " << trial;
     }
   }
 }

@@ -267,36 +267,59 @@ std::array<fcl::Vector3<S>, 32> RS<S>::corners() const
   return all;
 }
 
+namespace detail {
+
+/// support()'s corner, shared with extremeVertex. The maximum of dir . y is at one of the 4 vertices of the
+/// corner in dir's octant. Reflect that corner to (+,+,+) (so e = |dir|) and write the vertices of all four
+/// configurations at once: with a, b, c = how far the chamfer triple point P passes the principal planes (at
+/// most one is positive), the vertices are P - a(1,-1,1) - (b+c)(-1,1,1), onA - 2a e_z, onA - 2a e_y,
+/// onB - 2b e_z, onB - 2b e_x, onC - 2c e_y, onC - 2c e_x (repeats allowed). No branches, which matters in a
+/// traversal where every test meets a different configuration. Slab ends are picked by indexing, not by
+/// conditionals: a sign branch would be mispredicted half the time.
+template <typename S>
+struct SupportCorner
+{
+  SupportCorner(const RS<S>& rs, const fcl::Vector3<S>& dir)
+    : ex(std::abs(dir[0])), ey(std::abs(dir[1])), ez(std::abs(dir[2])), nx(dir[0] < 0), ny(dir[1] < 0),
+      nz(dir[2] < 0)
+  {
+    const S flip[2] = {S(1), S(-1)};
+    const S* const ends[2] = {rs.hi.data(), rs.lo.data()};
+    auto end = [&](int neg, int k) { return flip[neg] * ends[neg][k]; };
+    X = end(nx, 0);
+    Y = end(ny, 1);
+    Z = end(nz, 2);
+    // The chamfer over (u_i, u_j) facing this corner is the "plus" diagonal when the signs agree.
+    const int minus = diagonalIndex(0, 1, -1) - diagonalIndex(0, 1, +1);
+    Cxy = S(M_SQRT2) * end(nx, diagonalIndex(0, 1, +1) + minus * (nx ^ ny));
+    Cxz = S(M_SQRT2) * end(nx, diagonalIndex(0, 2, +1) + minus * (nx ^ nz));
+    Cyz = S(M_SQRT2) * end(ny, diagonalIndex(1, 2, +1) + minus * (ny ^ nz));
+    Px = (Cxy + Cxz - Cyz) / 2;
+    Py = (Cxy + Cyz - Cxz) / 2;
+    Pz = (Cxz + Cyz - Cxy) / 2;
+    auto positive = [](S v) { return v > 0 ? v : S(0); };
+    a = positive(Px - X);
+    b = positive(Py - Y);
+    c = positive(Pz - Z);
+    at_p = ex * Px + ey * Py + ez * Pz - a * (ex - ey + ez) - (b + c) * (ey + ez - ex);
+    at_a = X * (ex - ey - ez) + Cxy * ey + Cxz * ez - 2 * a * std::min(ey, ez);
+    at_b = Y * (ey - ex - ez) + Cxy * ex + Cyz * ez - 2 * b * std::min(ex, ez);
+    at_c = Z * (ez - ex - ey) + Cxz * ex + Cyz * ey - 2 * c * std::min(ex, ey);
+  }
+  S max() const { return std::max(std::max(at_p, at_a), std::max(at_b, at_c)); }
+
+  S ex, ey, ez;
+  int nx, ny, nz;
+  S X, Y, Z, Cxy, Cxz, Cyz, Px, Py, Pz, a, b, c;
+  S at_p, at_a, at_b, at_c;  ///< dir . (each configuration's best vertex)
+};
+
+}  // namespace detail
+
 template <typename S>
 S RS<S>::support(const fcl::Vector3<S>& dir) const
 {
-  // The maximum is at one of the 4 vertices of the corner in dir's octant. Reflect that corner to
-  // (+,+,+) (so e = |dir|) and write the vertices of all four configurations at once: with
-  // a, b, c = how far the chamfer triple point P passes the principal planes (at most one is
-  // positive), the vertices are P - a(1,-1,1) - (b+c)(-1,1,1), onA - 2a e_z, onA - 2a e_y,
-  // onB - 2b e_z, onB - 2b e_x, onC - 2c e_y, onC - 2c e_x (repeats allowed). No branches, which
-  // matters in a traversal where every test meets a different configuration.
-  // Slab ends are picked by indexing, not by conditionals: a sign branch would be mispredicted
-  // half the time.
-  const S ex = std::abs(dir[0]), ey = std::abs(dir[1]), ez = std::abs(dir[2]);
-  const int nx = dir[0] < 0, ny = dir[1] < 0, nz = dir[2] < 0;
-  const S flip[2] = {S(1), S(-1)};
-  const S* const ends[2] = {hi.data(), lo.data()};
-  auto end = [&](int neg, int k) { return flip[neg] * ends[neg][k]; };
-  const S X = end(nx, 0), Y = end(ny, 1), Z = end(nz, 2);
-  // The chamfer over (u_i, u_j) facing this corner is the "plus" diagonal when the signs agree.
-  const int minus = diagonalIndex(0, 1, -1) - diagonalIndex(0, 1, +1);
-  const S Cxy = S(M_SQRT2) * end(nx, diagonalIndex(0, 1, +1) + minus * (nx ^ ny));
-  const S Cxz = S(M_SQRT2) * end(nx, diagonalIndex(0, 2, +1) + minus * (nx ^ nz));
-  const S Cyz = S(M_SQRT2) * end(ny, diagonalIndex(1, 2, +1) + minus * (ny ^ nz));
-  const S Px = (Cxy + Cxz - Cyz) / 2, Py = (Cxy + Cyz - Cxz) / 2, Pz = (Cxz + Cyz - Cxy) / 2;
-  auto positive = [](S v) { return v > 0 ? v : S(0); };
-  const S a = positive(Px - X), b = positive(Py - Y), c = positive(Pz - Z);
-  const S at_p = ex * Px + ey * Py + ez * Pz - a * (ex - ey + ez) - (b + c) * (ey + ez - ex);
-  const S at_a = X * (ex - ey - ez) + Cxy * ey + Cxz * ez - 2 * a * std::min(ey, ez);
-  const S at_b = Y * (ey - ex - ez) + Cxy * ex + Cyz * ez - 2 * b * std::min(ex, ez);
-  const S at_c = Z * (ez - ex - ey) + Cxz * ex + Cyz * ey - 2 * c * std::min(ex, ey);
-  return std::max(std::max(at_p, at_a), std::max(at_b, at_c));
+  return detail::SupportCorner<S>(*this, dir).max();
 }
 
 template <typename S>
@@ -419,6 +442,8 @@ struct Box
 ///    orthonormality (the fits pad for the rounding of A^T x, not for A^-T = A): <= 16u per entry, so a point
 ///    y2 of b2 (|y2|_1 <= 3 reach2) moves by <= 48u reach2;
 ///  - t = A1^T (R o2 + T - o1): two 3-term products and two sums, <= 8u offsets per coordinate;
+///  (R A2, R o2 + T and |R o2|_1 + |T|_1 are computed once per node and query, MovedFrame, by the same
+///  operations in the same order as per pair, so caching them changes no result and no bound);
 ///  - box projections, supports and corner coordinates are sums of <= 6 products of values <= sqrt(2) times
 ///    the reaches (|dir| <= 1): <= 12 sqrt(2) u (reach1 + reach2).
 /// First-order total <= 8u offsets + 66u reaches; the bound doubles it at least (higher-order terms, float).
@@ -476,16 +501,22 @@ struct PairFrame
   }
 };
 
-/// The vertex of b farthest along dir (both in b's frame): one of the 4 of dir's octant corner.
+/// The vertex of b farthest along dir (both in b's frame): the one support(dir) found.
 template <typename S>
 fcl::Vector3<S> extremeVertex(const RS<S>& b, const fcl::Vector3<S>& dir)
 {
-  fcl::Vector3<S> v[4];
-  b.cornerVertices(octantOf(dir), v);
-  int arg = 0;
-  for (int i = 1; i < 4; ++i)
-    if (dir.dot(v[i]) > dir.dot(v[arg])) arg = i;
-  return v[arg];
+  using V = fcl::Vector3<S>;
+  const SupportCorner<S> s(b, dir);
+  V v;
+  if (s.at_p >= std::max(std::max(s.at_a, s.at_b), s.at_c))
+    v = V(s.Px - s.a + s.b + s.c, s.Py + s.a - s.b - s.c, s.Pz - s.a - s.b - s.c);
+  else if (s.at_a >= s.at_b && s.at_a >= s.at_c)
+    v = s.ez <= s.ey ? V(s.X, s.Cxy - s.X, s.Cxz - s.X - 2 * s.a) : V(s.X, s.Cxy - s.X - 2 * s.a, s.Cxz - s.X);
+  else if (s.at_b >= s.at_c)
+    v = s.ez <= s.ex ? V(s.Cxy - s.Y, s.Y, s.Cyz - s.Y - 2 * s.b) : V(s.Cxy - s.Y - 2 * s.b, s.Y, s.Cyz - s.Y);
+  else
+    v = s.ey <= s.ex ? V(s.Cxz - s.Z, s.Cyz - s.Z - 2 * s.c, s.Z) : V(s.Cxz - s.Z - 2 * s.c, s.Cyz - s.Z, s.Z);
+  return V(s.nx ? -v[0] : v[0], s.ny ? -v[1] : v[1], s.nz ? -v[2] : v[2]);
 }
 
 /// One volume's principal box projected on the other volume's nine slab directions: each direction
