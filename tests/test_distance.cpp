@@ -407,9 +407,10 @@ TYPED_TEST(DistanceMeshShape, BothOrdersMatchRSS)
           max_off = std::max<double>(max_off, off / scale);
           EXPECT_LE(off, gjk_tol * scale) << "nearest point 0 is not on the mesh";
           EXPECT_NEAR((rs.nearest_points[0] - rs.nearest_points[1]).norm(), rs.min_distance, gjk_tol * scale);
-          if (sphere)
+          if (sphere) {
             EXPECT_NEAR((rs.nearest_points[1] - tf2.translation()).norm(), S(0.3), gjk_tol * scale)
                 << "nearest point 1 is not on the sphere";
+          }
         }
       }
       std::cout << "[distance] " << what << ": 200 poses, " << colliding << " colliding, max |RS - RSS| / scale "

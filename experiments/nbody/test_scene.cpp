@@ -479,7 +479,9 @@ TYPED_TEST(SimulatorTest, CollisionResponseOnlyAtContactsAndConservesMomentum)
       const auto& v = sim.state(i).velocity;
       momentum_after += v;
       energy_after += v.squaredNorm();
-      if (!touching.count(i)) EXPECT_EQ(v, before[std::size_t(i)]) << "body " << i << " changed without contact";
+      if (!touching.count(i)) {
+        EXPECT_EQ(v, before[std::size_t(i)]) << "body " << i << " changed without contact";
+      }
       responses += v != before[std::size_t(i)];
     }
     EXPECT_LE((momentum_after - momentum).norm(), 1e3 * tolerance<S>());
