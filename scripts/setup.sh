@@ -11,7 +11,7 @@ build="${1:-$root/build}"
 packages=(cmake g++ make ninja-build libfcl-dev libccd-dev libeigen3-dev libassimp-dev assimp-testmodels
           libgtest-dev libbenchmark-dev libqhull-dev liburdfdom-dev libtinyxml2-dev nlohmann-json3-dev
           gnuplot-nox clang libclang-rt-14-dev pkg-config libcli11-dev libtbb-dev pybind11-dev python3-dev
-          python3-numpy python3-pytest python3-dask python3-distributed)
+          python3-numpy python3-pytest python3-dask python3-distributed libcgal-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

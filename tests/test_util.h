@@ -192,6 +192,34 @@ S meshRadius(const TriangleMesh<S>& m)
   return r;
 }
 
+/// n x n grid of coplanar points in z = 0 (a flat plate of 2 n^2 triangles), side 1.
+template <typename S>
+TriangleMesh<S> plate(int n = 6)
+{
+  TriangleMesh<S> m;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) m.vertices.emplace_back(S(i) / S(n) - S(0.5), S(j) / S(n) - S(0.5), 0);
+  const auto at = [n](int i, int j) { return std::size_t(i * (n + 1) + j); };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+    {
+      m.triangles.emplace_back(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      m.triangles.emplace_back(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  return m;
+}
+
+/// Collinear points along x (every triangle has zero area), length 1.
+template <typename S>
+TriangleMesh<S> needle(int n = 12)
+{
+  TriangleMesh<S> m;
+  for (int i = 0; i < n; ++i) m.vertices.emplace_back(S(i) / S(n - 1) - S(0.5), 0, 0);
+  for (int i = 0; i + 2 < n; ++i) m.triangles.emplace_back(i, i + 1, i + 2);
+  m.triangles.emplace_back(0, std::size_t(n - 1), std::size_t(n / 2));
+  return m;
+}
+
 using TrianglePairs = std::set<std::pair<int, int>>;
 
 /// Every intersecting triangle pair, with FCL's own local-frame triangle test (x1 = R x2 + T) on every pair

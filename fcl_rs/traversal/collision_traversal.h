@@ -12,6 +12,7 @@
 
 #include "fcl_rs/bv/rs.h"
 #include "fcl_rs/bv/rs_fit.h"
+#include "fcl_rs/narrowphase/triangle_intersection.h"
 #include "fcl_rs/traversal/moved_frames.h"
 
 namespace fcl_rs {
@@ -39,7 +40,7 @@ public:
 
   void leafTesting(int b1, int b2) const override
   {
-    fcl::detail::meshCollisionOrientedNodeLeafTesting(
+    meshTriangleLeafTesting(
         b1, b2, this->model1, this->model2, this->vertices1, this->vertices2, this->tri_indices1,
         this->tri_indices2, R, T, this->tf1, this->tf2, this->enable_statistics, this->cost_density,
         this->num_leaf_tests, this->request, *this->result);

@@ -1,0 +1,325 @@
+// Triangle-triangle leaf test of RS mesh-mesh queries: closed triangles, degenerate ones included (zero area,
+// collinear vertices, a single point), decided conservatively within a documented rounding bound; contacts as
+// FCL computes them wherever FCL's contact routine is defined, a documented convention elsewhere.
+//
+// Guarantee (docs/robustness.md). Let A's vertices p (model 1, its frame), B's vertices q (model 2, its frame),
+// and the poses tf1 = (R1, t1), tf2 = (R2, t2) with rotations orthonormal to a few ulps. The test runs on
+// q' = R q + T in A's frame ((R, T) = tf1^-1 tf2 as FCL's oriented traversal rounds it) and reports the pair
+// iff its computed distance is at most
+//     tolerance = 32 eps(S) (|t1|_inf + |t2|_inf + |T|_inf + 3 max_i |p_i|_inf + 3 max_j |q_j|_inf).
+// That covers the rounding of the world vertices tf1 p and tf2 q, of (R, T) and of R q + T (each a few ulps of
+// the same magnitudes), so two triangles whose world-frame vertices, as computed, touch or intersect exactly
+// are always reported; and a reported pair is at most 2 tolerance apart (exactly, in the world frame). The
+// answer does not depend on whether contacts are requested.
+#ifndef FCL_RS_NARROWPHASE_TRIANGLE_INTERSECTION_H
+#define FCL_RS_NARROWPHASE_TRIANGLE_INTERSECTION_H
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/math/bv/AABB.h>
+#include <fcl/narrowphase/collision_request.h>
+#include <fcl/narrowphase/collision_result.h>
+#include <fcl/narrowphase/detail/traversal/collision/intersect.h>
+
+namespace fcl_rs {
+
+/// The distance computation runs in a wider type than the coordinates, so its own rounding stays far below
+/// the tolerance (float: double, double: long double).
+template <typename S>
+struct WiderScalar
+{
+  using type = long double;
+};
+template <>
+struct WiderScalar<float>
+{
+  using type = double;
+};
+
+/// Where two triangles meet, in A's frame: closest points (equal where they cross) and their squared distance.
+template <typename S>
+struct TriangleProximity
+{
+  bool reported = false;
+  fcl::Vector3<S> on_a = fcl::Vector3<S>::Zero();
+  fcl::Vector3<S> on_b = fcl::Vector3<S>::Zero();
+};
+
+/// The leaf test's tolerance (see the header comment) for triangles p (A's frame) and q (B's frame).
+template <typename S>
+S triangleTolerance(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], const fcl::Vector3<S>& t1,
+                    const fcl::Vector3<S>& t2, const fcl::Vector3<S>& T)
+{
+  S size = 0;
+  for (int i = 0; i < 3; ++i)
+    size = std::max({size, p[i].cwiseAbs().maxCoeff(), q[i].cwiseAbs().maxCoeff()});
+  const S scale = t1.cwiseAbs().maxCoeff() + t2.cwiseAbs().maxCoeff() + T.cwiseAbs().maxCoeff() + 6 * size;
+  return 32 * std::numeric_limits<S>::epsilon() * scale;
+}
+
+namespace detail {
+
+template <typename W>
+using Vec3 = Eigen::Matrix<W, 3, 1>;
+
+/// Running minimum of squared distances between a point of A and a point of B.
+template <typename W>
+struct ClosestSoFar
+{
+  W sq_distance = std::numeric_limits<W>::infinity();
+  Vec3<W> on_a, on_b;
+  void offer(const Vec3<W>& a, const Vec3<W>& b)
+  {
+    const W d = (a - b).squaredNorm();
+    if (d < sq_distance)
+    {
+      sq_distance = d;
+      on_a = a;
+      on_b = b;
+    }
+  }
+};
+
+/// Point of segment [a, b] (possibly a point) closest to x: the clamped projection, stable for any length.
+template <typename W>
+Vec3<W> closestOnSegment(const Vec3<W>& a, const Vec3<W>& b, const Vec3<W>& x)
+{
+  const Vec3<W> d = b - a;
+  const W dd = d.squaredNorm();
+  if (!(dd > 0)) return a;
+  const W t = std::clamp((x - a).dot(d) / dd, W(0), W(1));
+  return a + t * d;
+}
+
+/// Closest points of segments [p0, p1] and [q0, q1]: the four endpoint-to-segment candidates, and the two lines'
+/// closest points when both fall inside. Every candidate is a feasible pair, and near-parallel segments (whose
+/// line solution is ill-conditioned) are settled by the endpoint candidates.
+template <typename W>
+void segmentSegment(const Vec3<W>& p0, const Vec3<W>& p1, const Vec3<W>& q0, const Vec3<W>& q1, ClosestSoFar<W>& best)
+{
+  best.offer(p0, closestOnSegment(q0, q1, p0));
+  best.offer(p1, closestOnSegment(q0, q1, p1));
+  best.offer(closestOnSegment(p0, p1, q0), q0);
+  best.offer(closestOnSegment(p0, p1, q1), q1);
+  const Vec3<W> d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const W a = d1.squaredNorm(), e = d2.squaredNorm(), b = d1.dot(d2), c = d1.dot(r), f = d2.dot(r);
+  const W denom = a * e - b * b;
+  if (!(denom > 0)) return;
+  const W s = (b * f - c * e) / denom, t = (a * f - b * c) / denom;
+  if (s > 0 && s < 1 && t > 0 && t < 1) best.offer(p0 + s * d1, q0 + t * d2);
+}
+
+/// Whether x, a point of the plane of (v0, v1, v2) with normal n, lies in the closed triangle.
+template <typename W>
+bool insideTriangle(const Vec3<W> v[3], const Vec3<W>& n, const Vec3<W>& x)
+{
+  for (int i = 0; i < 3; ++i)
+    if ((v[(i + 1) % 3] - v[i]).cross(x - v[i]).dot(n) < 0) return false;
+  return true;
+}
+
+/// Squared distance between closed triangles a and b (each possibly degenerate), with early exit once it is
+/// known to be at most stop. Two closed triangles meet iff an edge of one meets the other; apart, their distance
+/// is realized edge-to-edge or vertex-to-interior. So: edges crossing the other's interior, the nine
+/// edge-edge distances, the six vertex-to-interior distances; a zero-area triangle is just its edges.
+template <typename W>
+ClosestSoFar<W> triangleDistance(const Vec3<W> a[3], const Vec3<W> b[3], W stop)
+{
+  ClosestSoFar<W> best;
+  const Vec3<W> na = (a[1] - a[0]).cross(a[2] - a[0]), nb = (b[1] - b[0]).cross(b[2] - b[0]);
+  const bool a_has_area = na.squaredNorm() > 0, b_has_area = nb.squaredNorm() > 0;
+  // An edge of `from` through the interior of triangle `to` (normal n): the crossing point is on both.
+  const auto crossing = [&](const Vec3<W> from[3], const Vec3<W> to[3], const Vec3<W>& n) {
+    for (int i = 0; i < 3; ++i)
+    {
+      const Vec3<W>&s0 = from[i], &s1 = from[(i + 1) % 3];
+      const W d0 = n.dot(s0 - to[0]), d1 = n.dot(s1 - to[0]);
+      if ((d0 > 0 && d1 > 0) || (d0 < 0 && d1 < 0) || (d0 == 0 && d1 == 0)) continue;  // coplanar: edges decide
+      const Vec3<W> x = s0 + (d0 / (d0 - d1)) * (s1 - s0);
+      if (insideTriangle(to, n, x))
+      {
+        best.offer(x, x);
+        return true;
+      }
+    }
+    return false;
+  };
+  if (b_has_area && crossing(a, b, nb)) return best;
+  if (a_has_area && crossing(b, a, na)) return best;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+    {
+      segmentSegment(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3], best);
+      if (best.sq_distance <= stop) return best;
+    }
+  // A vertex above the interior of the other triangle: its projection.
+  const auto aboveInterior = [](const Vec3<W>& x, const Vec3<W> to[3], const Vec3<W>& n) -> Vec3<W> {
+    return x - n * (n.dot(x - to[0]) / n.squaredNorm());
+  };
+  for (int i = 0; i < 3; ++i)
+  {
+    if (b_has_area)
+    {
+      const Vec3<W> y = aboveInterior(a[i], b, nb);
+      if (insideTriangle(b, nb, y)) best.offer(a[i], y);
+    }
+    if (a_has_area)
+    {
+      const Vec3<W> y = aboveInterior(b[i], a, na);
+      if (insideTriangle(a, na, y)) best.offer(y, b[i]);
+    }
+  }
+  return best;
+}
+
+/// Whether some axis of FCL's separating-axis set (the two normals, the nine edge-edge crosses, the six in-plane
+/// edge normals) separates the triangles by more than tolerance, counting the projections' rounding: a cheap
+/// proof that the exact distance exceeds tolerance, which settles most leaf pairs without triangleDistance.
+template <typename S>
+bool separatedBeyond(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], S tolerance)
+{
+  S size = 0;
+  for (int i = 0; i < 3; ++i) size = std::max({size, p[i].cwiseAbs().maxCoeff(), q[i].cwiseAbs().maxCoeff()});
+  // |fl(a.x) - a.x| <= 3 u |a|_1 |x|_inf per projection; the gap of two, with room to spare.
+  const S slack = tolerance + 4 * std::numeric_limits<S>::epsilon() * size;
+  const auto separates = [&](const fcl::Vector3<S>& axis) {
+    S p_min = axis.dot(p[0]), p_max = p_min, q_min = axis.dot(q[0]), q_max = q_min;
+    for (int i = 1; i < 3; ++i)
+    {
+      const S pi = axis.dot(p[i]), qi = axis.dot(q[i]);
+      p_min = std::min(p_min, pi);
+      p_max = std::max(p_max, pi);
+      q_min = std::min(q_min, qi);
+      q_max = std::max(q_max, qi);
+    }
+    // The 1-norm bounds the 2-norm: a gap above slack |axis|_1 is a distance above tolerance.
+    const S margin = slack * axis.template lpNorm<1>();
+    return q_min - p_max > margin || p_min - q_max > margin;
+  };
+  const fcl::Vector3<S> e[3] = {p[1] - p[0], p[2] - p[1], p[0] - p[2]};
+  const fcl::Vector3<S> f[3] = {q[1] - q[0], q[2] - q[1], q[0] - q[2]};
+  const fcl::Vector3<S> n = e[0].cross(e[1]), m = f[0].cross(f[1]);
+  if (separates(n) || separates(m)) return true;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (separates(e[i].cross(f[j]))) return true;
+  for (int i = 0; i < 3; ++i)
+    if (separates(e[i].cross(n)) || separates(f[i].cross(m))) return true;
+  return false;
+}
+
+}  // namespace detail
+
+/// The leaf test: p in A's frame, q_in_a B's vertices mapped into A's frame. Reported iff the computed distance
+/// is at most tolerance (triangleTolerance); on_a and on_b are then points of A and B at most tolerance apart
+/// (equal where the triangles cross).
+template <typename S>
+TriangleProximity<S> triangleProximity(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q_in_a[3], S tolerance)
+{
+  TriangleProximity<S> out;
+  if (detail::separatedBeyond(p, q_in_a, tolerance)) return out;
+  using W = typename WiderScalar<S>::type;
+  const detail::Vec3<W> a[3] = {p[0].template cast<W>(), p[1].template cast<W>(), p[2].template cast<W>()};
+  const detail::Vec3<W> b[3] = {q_in_a[0].template cast<W>(), q_in_a[1].template cast<W>(),
+                                q_in_a[2].template cast<W>()};
+  const W stop = W(tolerance) * W(tolerance);
+  const detail::ClosestSoFar<W> best = detail::triangleDistance(a, b, stop);
+  if (!(best.sq_distance <= stop)) return out;
+  out.reported = true;
+  out.on_a = best.on_a.template cast<S>();
+  out.on_b = best.on_b.template cast<S>();
+  return out;
+}
+
+/// A contact for a reported pair where FCL's contact routine is undefined (a zero-area triangle: FCL reads an
+/// uninitialised plane) or gives no point (touching within the tolerance): one point, midway between the
+/// closest points; depth 0; normal, pointing from A to B, along on_b - on_a where they differ, else A's normal,
+/// else minus B's normal, else A's x axis (two collinear or point triangles crossing). In A's frame.
+template <typename S>
+void degenerateContact(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q_in_a[3], const TriangleProximity<S>& near,
+                       fcl::Vector3<S>& point, fcl::Vector3<S>& normal)
+{
+  point = (near.on_a + near.on_b) / 2;
+  const fcl::Vector3<S> candidates[3] = {near.on_b - near.on_a, (p[1] - p[0]).cross(p[2] - p[0]),
+                                         -(q_in_a[1] - q_in_a[0]).cross(q_in_a[2] - q_in_a[0])};
+  for (const auto& c : candidates)
+  {
+    const S norm = c.norm();
+    if (norm > 0 && std::isfinite(norm))
+    {
+      normal = c / norm;
+      return;
+    }
+  }
+  normal = fcl::Vector3<S>::UnitX();
+}
+
+/// Drop-in replacement for fcl::detail::meshCollisionOrientedNodeLeafTesting (same arguments, same statistics
+/// and cost sources) deciding with triangleProximity. Contacts: FCL's own (Intersect::intersect_Triangle with
+/// contact outputs, converted to the world frame exactly as FCL's leaf test does) when both triangles have a
+/// plane FCL can build and FCL's routine gives points; otherwise one degenerateContact.
+template <typename BV>
+void meshTriangleLeafTesting(int b1, int b2, const fcl::BVHModel<BV>* model1, const fcl::BVHModel<BV>* model2,
+                             fcl::Vector3<typename BV::S>* vertices1, fcl::Vector3<typename BV::S>* vertices2,
+                             fcl::Triangle* tri_indices1, fcl::Triangle* tri_indices2,
+                             const fcl::Matrix3<typename BV::S>& R, const fcl::Vector3<typename BV::S>& T,
+                             const fcl::Transform3<typename BV::S>& tf1, const fcl::Transform3<typename BV::S>& tf2,
+                             bool enable_statistics, typename BV::S cost_density, int& num_leaf_tests,
+                             const fcl::CollisionRequest<typename BV::S>& request,
+                             fcl::CollisionResult<typename BV::S>& result)
+{
+  using S = typename BV::S;
+  if (enable_statistics) num_leaf_tests++;
+  const bool occupied = model1->isOccupied() && model2->isOccupied();
+  if (!occupied && !((!model1->isFree() && !model2->isFree()) && request.enable_cost)) return;
+
+  const int id1 = model1->getBV(b1).primitiveId(), id2 = model2->getBV(b2).primitiveId();
+  const fcl::Triangle& t1 = tri_indices1[id1];
+  const fcl::Triangle& t2 = tri_indices2[id2];
+  const fcl::Vector3<S> p[3] = {vertices1[t1[0]], vertices1[t1[1]], vertices1[t1[2]]};
+  const fcl::Vector3<S> q[3] = {vertices2[t2[0]], vertices2[t2[1]], vertices2[t2[2]]};
+  // The same expression FCL's triangle test evaluates, so FCL's contacts below see the same numbers.
+  const fcl::Vector3<S> q_in_a[3] = {R * q[0] + T, R * q[1] + T, R * q[2] + T};
+  const S tolerance = triangleTolerance<S>(p, q, tf1.translation(), tf2.translation(), T);
+  const TriangleProximity<S> near = triangleProximity(p, q_in_a, tolerance);
+  if (!near.reported) return;
+
+  if (occupied && request.enable_contact)
+  {
+    const auto hasPlane = [](const fcl::Vector3<S> v[3]) { return (v[1] - v[0]).cross(v[2] - v[0]).squaredNorm() > 0; };
+    fcl::Vector3<S> points[2], normal;
+    S depth = 0;
+    unsigned int n_points = 0;
+    // FCL builds both planes from these cross products and reads an uninitialised one where it is zero; a
+    // triangle collinear in its own frame gets a plane from rounding noise alone in A's: both are degenerate.
+    if (!(hasPlane(p) && hasPlane(q) && hasPlane(q_in_a) &&
+          fcl::detail::Intersect<S>::intersect_Triangle(p[0], p[1], p[2], q_in_a[0], q_in_a[1], q_in_a[2], points,
+                                                        &n_points, &depth, &normal) &&
+          n_points > 0))
+    {
+      n_points = 1;
+      depth = 0;
+      degenerateContact(p, q_in_a, near, points[0], normal);
+    }
+    for (unsigned int i = 0; i < n_points && result.numContacts() < request.num_max_contacts; ++i)
+      result.addContact(fcl::Contact<S>(model1, model2, id1, id2, tf1 * points[i], tf1.linear() * normal, depth));
+  }
+  else if (occupied && result.numContacts() < request.num_max_contacts)
+  {
+    result.addContact(fcl::Contact<S>(model1, model2, id1, id2));
+  }
+
+  if (request.enable_cost)
+  {
+    fcl::AABB<S> overlap_part;
+    fcl::AABB<S>(tf1 * p[0], tf1 * p[1], tf1 * p[2]).overlap(fcl::AABB<S>(tf2 * q[0], tf2 * q[1], tf2 * q[2]), overlap_part);
+    result.addCostSource(fcl::CostSource<S>(overlap_part, cost_density), request.num_max_cost_sources);
+  }
+}
+
+}  // namespace fcl_rs
+
+#endif

@@ -1,0 +1,409 @@
+// The RS leaf test (fcl_rs/narrowphase/triangle_intersection.h) judged by an exact oracle (tests/exact_oracle.h):
+// degenerate meshes (a UV sphere with collapsed poles, needles, duplicated and point triangles, coplanar plates,
+// identical poses sharing every edge and vertex), random and grazing poses (bisection on the exact verdict),
+// offsets to 1e7, float and double. For every pose, with the world-frame vertices as computed (tf * v in S):
+//  * every exactly intersecting triangle pair that reaches the leaf test is reported by the exhaustive RS query,
+//    contacts on and off; pairs the RS overlap test culls first (far from the origin, where the world-to-local
+//    rounding exceeds the overlap test's own tolerance) are counted and printed, not asserted;
+//  * both modes report the same pairs, and first-contact queries (contacts on and off) say "collide" iff the
+//    exhaustive query reported a pair;
+//  * a reported pair that does not exactly intersect is at most 2 triangleTolerance apart (exact distance);
+//  * every reported pair carries a contact; where both triangles have a plane and FCL's OBBRSS tree reports the
+//    pair with contacts (and both have one in their own frames), the RS contacts are FCL's, field for field.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <fcl/math/bv/OBBRSS.h>
+#include <fcl/narrowphase/collision.h>
+#include <gtest/gtest.h>
+
+#include "exact_oracle.h"
+#include "fcl_rs/fcl_rs.h"
+#include "fcl_rs/narrowphase/triangle_intersection.h"
+#include "test_util.h"
+
+namespace {
+
+using fcl_rs::TriangleMesh;
+using fcl_rs::test::ExactTriangle;
+using fcl_rs::test::TrianglePairs;
+using fcl_rs::test::needle;
+using fcl_rs::test::plate;
+
+constexpr std::size_t kAllContacts = 1000000;
+
+template <typename S>
+class TriangleIntersection : public ::testing::Test
+{
+};
+TYPED_TEST_SUITE(TriangleIntersection, fcl_rs::test::Scalars);
+
+// ---------------------------------------------------------------------------------------------------------------
+// Degenerate meshes, size about 1 (scaled for float far from the origin)
+
+/// UV sphere whose poles are rings of `slices` copies of the pole: zero-area triangles with a repeated vertex at
+/// the north pole (sin 0 = 0 exactly) and slivers at the south pole (sin pi is 1.2e-16, not 0).
+template <typename S>
+TriangleMesh<S> collapsedPoleSphere(int stacks = 8, int slices = 12)
+{
+  TriangleMesh<S> m;
+  for (int i = 0; i <= stacks; ++i)
+    for (int j = 0; j < slices; ++j)
+    {
+      const double theta = M_PI * i / stacks, phi = 2 * M_PI * j / slices;
+      m.vertices.emplace_back(S(0.5 * std::sin(theta) * std::cos(phi)), S(0.5 * std::sin(theta) * std::sin(phi)),
+                              S(0.5 * std::cos(theta)));
+    }
+  const auto at = [slices](int i, int j) { return std::size_t(i * slices + j % slices); };
+  for (int i = 0; i < stacks; ++i)
+    for (int j = 0; j < slices; ++j)
+    {
+      m.triangles.emplace_back(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      m.triangles.emplace_back(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  return m;
+}
+
+/// A box with every triangle listed twice, plus point triangles (i, i, i) and edge triangles (i, i, j).
+template <typename S>
+TriangleMesh<S> duplicatedBox()
+{
+  TriangleMesh<S> m = fcl_rs::makeBox<S>(1, S(0.7), S(0.4));
+  const std::size_t n = m.triangles.size();
+  for (std::size_t t = 0; t < n; ++t) m.triangles.push_back(m.triangles[t]);
+  for (std::size_t i = 0; i < m.vertices.size(); ++i)
+  {
+    m.triangles.emplace_back(i, i, i);
+    m.triangles.emplace_back(i, i, (i + 3) % m.vertices.size());
+  }
+  return m;
+}
+
+template <typename S>
+TriangleMesh<S> scaled(TriangleMesh<S> m, S factor)
+{
+  for (auto& v : m.vertices) v *= factor;
+  return m;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// One pose: queries, exact truth, checks
+
+struct Tally
+{
+  long poses = 0, grazing_poses = 0, intersecting = 0, missed = 0, culled_by_bv = 0, reported = 0, reported_apart = 0,
+       beyond_bound = 0, mode_mismatches = 0, contacts_compared = 0;
+  double worst_apart_over_bound = 0;
+};
+std::map<std::string, Tally> g_tallies;
+
+struct TallyPrinter : ::testing::Environment
+{
+  void TearDown() override
+  {
+    for (const auto& [name, t] : g_tallies)
+      std::cout << "[triangle intersection] " << name << ": " << t.poses << " poses (" << t.grazing_poses
+                << " grazing), " << t.intersecting << " exactly intersecting pairs, " << t.missed << " missed by the leaf test, "
+                << t.culled_by_bv << " culled by the RS overlap test, "
+                << t.reported << " reported, " << t.reported_apart << " reported but exactly apart (worst "
+                << t.worst_apart_over_bound << " of the bound), " << t.beyond_bound << " beyond the bound, "
+                << t.mode_mismatches << " contact-mode mismatches, " << t.contacts_compared
+                << " pairs' contacts equal to OBBRSS's\n";
+  }
+};
+const auto* const g_printer = ::testing::AddGlobalTestEnvironment(new TallyPrinter);
+
+template <typename S>
+struct Scene
+{
+  TriangleMesh<S> a, b;
+  std::shared_ptr<fcl::BVHModel<fcl_rs::RS<S>>> rs_a, rs_b;
+  std::shared_ptr<fcl::BVHModel<fcl::OBBRSS<S>>> obbrss_a, obbrss_b;
+  Scene(TriangleMesh<S> mesh_a, TriangleMesh<S> mesh_b) : a(std::move(mesh_a)), b(std::move(mesh_b))
+  {
+    rs_a = fcl_rs::buildModel<fcl_rs::RS<S>>(a);
+    rs_b = fcl_rs::buildModel<fcl_rs::RS<S>>(b);
+    obbrss_a = fcl_rs::buildModel<fcl::OBBRSS<S>>(a);
+    obbrss_b = fcl_rs::buildModel<fcl::OBBRSS<S>>(b);
+  }
+};
+
+template <typename S>
+std::vector<ExactTriangle> worldTriangles(const TriangleMesh<S>& m, const fcl::Transform3<S>& tf)
+{
+  std::vector<Eigen::Vector3d> world;
+  for (const auto& v : m.vertices) world.push_back((tf * v).template cast<double>());  // as computed, in S
+  std::vector<ExactTriangle> out;
+  for (const auto& t : m.triangles) out.push_back({world[t[0]], world[t[1]], world[t[2]]});
+  return out;
+}
+
+bool boxesOverlap(const ExactTriangle& a, const ExactTriangle& b)
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    const double a_lo = std::min({a[0][k], a[1][k], a[2][k]}), a_hi = std::max({a[0][k], a[1][k], a[2][k]});
+    const double b_lo = std::min({b[0][k], b[1][k], b[2][k]}), b_hi = std::max({b[0][k], b[1][k], b[2][k]});
+    if (a_lo > b_hi || b_lo > a_hi) return false;
+  }
+  return true;
+}
+
+/// Exactly intersecting pairs (an intersection point lies in both exact boxes, so the box filter loses none);
+/// with stop_at_first, at most one.
+TrianglePairs exactPairs(const std::vector<ExactTriangle>& wa, const std::vector<ExactTriangle>& wb,
+                         bool stop_at_first = false)
+{
+  TrianglePairs pairs;
+  for (std::size_t i = 0; i < wa.size(); ++i)
+    for (std::size_t j = 0; j < wb.size(); ++j)
+      if (boxesOverlap(wa[i], wb[j]) && fcl_rs::test::exactlyIntersect(wa[i], wb[j]))
+      {
+        pairs.emplace(int(i), int(j));
+        if (stop_at_first) return pairs;
+      }
+  return pairs;
+}
+
+template <typename S, typename BV>
+fcl::CollisionResult<S> query(const fcl::BVHModel<BV>& a, const fcl::Transform3<S>& tf1, const fcl::BVHModel<BV>& b,
+                              const fcl::Transform3<S>& tf2, std::size_t max_contacts, bool contacts)
+{
+  fcl::CollisionRequest<S> request(max_contacts, contacts);
+  fcl::CollisionResult<S> result;
+  if constexpr (std::is_same<BV, fcl_rs::RS<S>>::value)
+    fcl_rs::collide(&a, tf1, &b, tf2, request, result);
+  else
+    fcl::collide(&a, tf1, &b, tf2, request, result);
+  return result;
+}
+
+template <typename S>
+void checkPose(const Scene<S>& s, const fcl::Transform3<S>& tf1, const fcl::Transform3<S>& tf2, Tally& tally,
+               const std::string& what)
+{
+  SCOPED_TRACE(what);
+  ++tally.poses;
+  const auto wa = worldTriangles(s.a, tf1), wb = worldTriangles(s.b, tf2);
+  const TrianglePairs truth = exactPairs(wa, wb);
+  const auto with = query(*s.rs_a, tf1, *s.rs_b, tf2, kAllContacts, true);
+  const auto without = query(*s.rs_a, tf1, *s.rs_b, tf2, kAllContacts, false);
+  const TrianglePairs reported = fcl_rs::test::contactPairs(with), reported_off = fcl_rs::test::contactPairs(without);
+  tally.intersecting += long(truth.size());
+  tally.reported += long(reported.size());
+
+  // The numbers the traversal uses.
+  fcl::Matrix3<S> R;
+  fcl::Vector3<S> T;
+  fcl::relativeTransform(tf1.linear(), tf1.translation(), tf2.linear(), tf2.translation(), R, T);
+  const auto leafInputs = [&](int i, int j, fcl::Vector3<S> p[3], fcl::Vector3<S> q[3], fcl::Vector3<S> q_in_a[3]) {
+    for (int k = 0; k < 3; ++k)
+    {
+      p[k] = s.a.vertices[s.a.triangles[i][k]];
+      q[k] = s.b.vertices[s.b.triangles[j][k]];
+      q_in_a[k] = R * q[k] + T;
+    }
+    return fcl_rs::triangleTolerance<S>(p, q, tf1.translation(), tf2.translation(), T);
+  };
+
+  // A missed pair is lost either in the leaf test (an error of this header) or by the bounding volumes before
+  // any leaf test runs (the RS overlap test, counted and printed; see docs/robustness.md).
+  long missed = 0;
+  for (const auto& [i, j] : truth)
+  {
+    if (reported.count({i, j}) && reported_off.count({i, j})) continue;
+    fcl::Vector3<S> p[3], q[3], q_in_a[3];
+    const S tolerance = leafInputs(i, j, p, q, q_in_a);
+    if (fcl_rs::triangleProximity(p, q_in_a, tolerance).reported)
+      ++tally.culled_by_bv;
+    else
+      ++missed;
+  }
+  tally.missed += missed;
+  EXPECT_EQ(missed, 0) << "exactly intersecting pairs the leaf test does not report";
+  if (reported != reported_off) ++tally.mode_mismatches;
+  EXPECT_EQ(reported, reported_off) << "contacts on and off must report the same pairs";
+  for (const bool contacts : {true, false})
+    EXPECT_EQ(query(*s.rs_a, tf1, *s.rs_b, tf2, 1, contacts).isCollision(), !reported.empty())
+        << "first contact, contacts " << contacts;
+
+  // Reported but exactly apart: within the documented bound.
+  for (const auto& [i, j] : reported)
+  {
+    if (truth.count({i, j})) continue;
+    ++tally.reported_apart;
+    fcl::Vector3<S> p[3], q[3], q_in_a[3];
+    const double bound = 2 * double(leafInputs(i, j, p, q, q_in_a));
+    const double distance = fcl_rs::test::exactDistance(wa[i], wb[j]);
+    tally.worst_apart_over_bound = std::max(tally.worst_apart_over_bound, distance / bound);
+    if (distance > bound) ++tally.beyond_bound;
+    EXPECT_LE(distance, bound) << "pair " << i << "," << j;
+  }
+
+  // Contacts: RS's equal FCL's (OBBRSS tree) for pairs with planes that FCL reports with contacts.
+  std::map<std::pair<int, int>, std::vector<const fcl::Contact<S>*>> rs_contacts, fcl_contacts;
+  for (std::size_t k = 0; k < with.numContacts(); ++k)
+    rs_contacts[{with.getContact(k).b1, with.getContact(k).b2}].push_back(&with.getContact(k));
+  const auto reference = query(*s.obbrss_a, tf1, *s.obbrss_b, tf2, kAllContacts, true);
+  for (std::size_t k = 0; k < reference.numContacts(); ++k)
+    fcl_contacts[{reference.getContact(k).b1, reference.getContact(k).b2}].push_back(&reference.getContact(k));
+  const auto hasPlane = [](const fcl::Vector3<S>& x, const fcl::Vector3<S>& y, const fcl::Vector3<S>& z) {
+    return (y - x).cross(z - x).squaredNorm() > 0;
+  };
+  for (const auto& [pair, theirs] : fcl_contacts)
+  {
+    const auto& ta = s.a.triangles[pair.first];
+    const auto& tb = s.b.triangles[pair.second];
+    if (!hasPlane(s.a.vertices[ta[0]], s.a.vertices[ta[1]], s.a.vertices[ta[2]]) ||
+        !hasPlane(s.b.vertices[tb[0]], s.b.vertices[tb[1]], s.b.vertices[tb[2]]) ||
+        !hasPlane(R * s.b.vertices[tb[0]] + T, R * s.b.vertices[tb[1]] + T, R * s.b.vertices[tb[2]] + T))
+      continue;
+    const auto ours = rs_contacts.find(pair);
+    if (ours == rs_contacts.end()) continue;  // FCL's own verdict on an apart pair: judged by the oracle above
+    ++tally.contacts_compared;
+    ASSERT_EQ(ours->second.size(), theirs.size()) << "pair " << pair.first << "," << pair.second;
+    for (std::size_t k = 0; k < theirs.size(); ++k)
+    {
+      EXPECT_EQ(ours->second[k]->pos, theirs[k]->pos);
+      EXPECT_EQ(ours->second[k]->normal, theirs[k]->normal);
+      EXPECT_EQ(ours->second[k]->penetration_depth, theirs[k]->penetration_depth);
+    }
+  }
+  for (const auto& [pair, ours] : rs_contacts)
+    for (const auto* c : ours)
+    {
+      EXPECT_TRUE(c->pos.allFinite() && c->normal.allFinite() && std::isfinite(c->penetration_depth));
+      EXPECT_NEAR(double(c->normal.norm()), 1.0, 1e-3);
+    }
+}
+
+/// Moves tf2 along direction from `inside` (exact verdict: some pair intersects) to `outside` by bisection on the
+/// exact verdict down to adjacent representable steps, and checks the last touching and first apart poses.
+template <typename S>
+void checkGrazing(const Scene<S>& s, const fcl::Transform3<S>& tf1, fcl::Transform3<S> tf2,
+                  const fcl::Vector3<S>& direction, S reach, Tally& tally, const std::string& what)
+{
+  const fcl::Vector3<S> start = tf2.translation();
+  const auto touches = [&](S step) {
+    tf2.translation() = start + step * direction;
+    return !exactPairs(worldTriangles(s.a, tf1), worldTriangles(s.b, tf2), true).empty();
+  };
+  S lo = 0, hi = reach;
+  if (!touches(lo) || touches(hi)) return;
+  while (std::nextafter(lo, hi) < hi)
+  {
+    const S mid = lo + (hi - lo) / 2;
+    if (mid <= lo || mid >= hi) break;
+    (touches(mid) ? lo : hi) = mid;
+  }
+  for (const S step : {lo, hi})
+  {
+    tf2.translation() = start + step * direction;
+    ++tally.grazing_poses;
+    checkPose(s, tf1, tf2, tally, what + " grazing step " + std::to_string(double(step)));
+  }
+}
+
+/// Random and grazing poses of mesh b about mesh a, both offset from the origin by `offset` along a fixed odd
+/// direction. Float far from the origin gets meshes scaled to offset / 1e3 (a float's ulp at 1e7 is 1).
+template <typename S>
+void runScene(const std::string& name, const TriangleMesh<S>& a, const TriangleMesh<S>& b, int random_poses,
+              int grazing_poses, bool identical_poses = false)
+{
+  auto rng = fcl_rs::test::seededRng("TriangleIntersection." + name);
+  for (const double offset : {0.0, 1e3, 1e6, 1e7})
+  {
+    const S size = std::is_same<S, float>::value ? S(std::max(1.0, offset / 1e3)) : S(1);
+    const Scene<S> scene(scaled(a, size), scaled(b, size));
+    Tally& tally = g_tallies[name + (std::is_same<S, float>::value ? " float" : " double")];
+    const fcl::Vector3<S> origin = fcl::Vector3<S>(S(0.6), S(-0.7), S(0.39)) * S(offset);
+    std::uniform_real_distribution<double> unit(-1, 1);
+    for (int k = 0; k < random_poses + grazing_poses; ++k)
+    {
+      fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(0));
+      tf1.translation() = origin;
+      fcl::Transform3<S> tf2 = identical_poses ? tf1 : fcl_rs::test::randomPose<S>(rng, S(0.3) * size);
+      if (!identical_poses) tf2.translation() += origin;
+      const std::string what = name + " offset " + std::to_string(offset) + " pose " + std::to_string(k);
+      if (k < random_poses)
+        checkPose(scene, tf1, tf2, tally, what);
+      else
+      {
+        const fcl::Vector3<S> direction =
+            fcl::Vector3<S>(S(unit(rng)), S(unit(rng)), S(unit(rng))).normalized();
+        checkGrazing(scene, tf1, tf2, direction, 3 * size, tally, what);
+      }
+      if (::testing::Test::HasFailure()) return;
+    }
+  }
+}
+
+TYPED_TEST(TriangleIntersection, CollapsedPoleSphereAgainstSphereAndNeedle)
+{
+  using S = TypeParam;
+  runScene<S>("collapsed-pole sphere vs sphere", collapsedPoleSphere<S>(), collapsedPoleSphere<S>(6, 9), 4, 3);
+  runScene<S>("collapsed-pole sphere vs needle", collapsedPoleSphere<S>(), needle<S>(10), 4, 3);
+}
+
+TYPED_TEST(TriangleIntersection, NeedlesAndPointTriangles)
+{
+  using S = TypeParam;
+  runScene<S>("needle vs needle", needle<S>(10), needle<S>(7), 6, 4);
+  runScene<S>("duplicated box vs needle", duplicatedBox<S>(), needle<S>(10), 4, 3);
+  runScene<S>("duplicated box vs duplicated box", duplicatedBox<S>(), duplicatedBox<S>(), 4, 3);
+}
+
+TYPED_TEST(TriangleIntersection, CoplanarOverlaps)
+{
+  using S = TypeParam;
+  auto rng = fcl_rs::test::seededRng("TriangleIntersection.CoplanarOverlaps");
+  const Scene<S> scene(plate<S>(5), plate<S>(4));
+  Tally& tally = g_tallies[std::string("coplanar plates ") + (std::is_same<S, float>::value ? "float" : "double")];
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int k = 0; k < 12; ++k)
+  {
+    // Both plates in one plane (a random one): B turned about that plane's normal and slid within it.
+    fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(10));
+    fcl::Transform3<S> in_plane = fcl::Transform3<S>::Identity();
+    in_plane.linear() = Eigen::AngleAxisd(M_PI * u(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix().cast<S>();
+    in_plane.translation() = fcl::Vector3<S>(S(0.6 * u(rng)), S(0.6 * u(rng)), 0);
+    checkPose(scene, tf1, fcl::Transform3<S>(tf1 * in_plane), tally, "coplanar pose " + std::to_string(k));
+  }
+}
+
+TYPED_TEST(TriangleIntersection, IdenticalPosesShareEveryEdgeAndVertex)
+{
+  using S = TypeParam;
+  runScene<S>("identical sphere", collapsedPoleSphere<S>(5, 7), collapsedPoleSphere<S>(5, 7), 2, 0, true);
+  runScene<S>("identical plate", plate<S>(4), plate<S>(4), 2, 0, true);
+}
+
+// The leaf test alone on hand-made degenerate pairs whose answer is known.
+TYPED_TEST(TriangleIntersection, DegeneratePairsByHand)
+{
+  using S = TypeParam;
+  using V = fcl::Vector3<S>;
+  const V tri[3] = {V(0, 0, 0), V(1, 0, 0), V(0, 1, 0)};
+  const S tol = fcl_rs::triangleTolerance<S>(tri, tri, V::Zero(), V::Zero(), V::Zero());
+  const auto reported = [&](V a, V b, V c) {
+    const V q[3] = {a, b, c};
+    return fcl_rs::triangleProximity(tri, q, tol).reported;
+  };
+  const S h = S(0.25);
+  EXPECT_TRUE(reported(V(h, h, 0), V(h, h, 0), V(h, h, 0)));                   // a point in the face
+  EXPECT_FALSE(reported(V(h, h, S(0.01)), V(h, h, S(0.01)), V(h, h, S(0.01))));  // a point above it
+  EXPECT_TRUE(reported(V(h, h, -1), V(h, h, 1), V(h, h, 0)));                    // a needle through it
+  EXPECT_TRUE(reported(V(-1, h, 0), V(2, h, 0), V(2, h, 0)));                    // a coplanar segment across
+  EXPECT_FALSE(reported(V(-1, 2, 0), V(2, 2, 0), V(1, 2, 0)));                   // a coplanar segment beside
+  EXPECT_TRUE(reported(V(1, 0, 0), V(2, 0, 0), V(3, 0, 0)));                     // touching at a vertex
+  EXPECT_TRUE(reported(V(S(0.5), S(0.5), 0), V(1, 1, 0), V(1, 1, 0)));           // touching the hypotenuse
+  EXPECT_FALSE(reported(V(S(0.5) + S(0.01), S(0.5) + S(0.01), 0), V(1, 1, 0), V(1, 1, 0)));
+}
+
+}  // namespace
