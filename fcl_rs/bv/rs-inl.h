@@ -447,6 +447,12 @@ struct Box
 ///  - box projections, supports and corner coordinates are sums of <= 6 products of values <= sqrt(2) times
 ///    the reaches (|dir| <= 1): <= 12 sqrt(2) u (reach1 + reach2).
 /// First-order total <= 8u offsets + 66u reaches; the bound doubles it at least (higher-order terms, float).
+/// A query between posed objects adds the world frame's rounding to offsets: |t1|_1 + |t2|_1 of the poses.
+/// Contacts are promised for the world-frame vertices as computed, fl(R1 p + t1) and fl(R2 q + t2), each
+/// within u (|R p|_1 + |t|_1) of the exact pose per coordinate, which (R, T) in A's frame never sees: far
+/// from the origin (|t| >> the meshes and T) that is the largest term, and without it grazing pairs that
+/// touch in the world frame are culled. The leaf test's tolerance (narrowphase/triangle_intersection.h)
+/// carries the same term.
 template <typename S>
 S pairRoundingBound(S offsets, S reaches)
 {
@@ -461,16 +467,17 @@ struct MovedFrame
 {
   /// Uninitialised, for arrays filled as a traversal reaches their nodes.
   MovedFrame() = default;
-  MovedFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2)
+  /// world_offsets: |t1|_1 + |t2|_1 of the query's poses (pairRoundingBound), 0 without poses.
+  MovedFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2, S world_offsets = 0)
   {
     const fcl::Vector3<S> o2 = R * b2.origin;
     axis.noalias() = R.lazyProduct(b2.axis);
     origin = o2 + T;
-    offsets = o2.template lpNorm<1>() + T.template lpNorm<1>();
+    offsets = o2.template lpNorm<1>() + T.template lpNorm<1>() + world_offsets;
   }
   fcl::Matrix3<S> axis;    ///< R A2
   fcl::Vector3<S> origin;  ///< R o2 + T
-  S offsets;               ///< |R o2|_1 + |T|_1, the translations' part of pairRoundingBound's offsets
+  S offsets;               ///< |R o2|_1 + |T|_1 (+ world_offsets), the translations' part of pairRoundingBound's offsets
 };
 
 /// The pair kernel: b2 expressed in b1's frame (y1 = M y2 + t), both principal boxes, each box's centre in the
@@ -644,10 +651,11 @@ bool overlap(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2, Over
 }  // namespace detail
 
 template <typename S>
-bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2, OverlapTest test)
+bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2, OverlapTest test,
+             S world_offsets)
 {
   if (b1.empty() || b2.empty()) return false;
-  return detail::overlap(detail::MovedFrame<S>(R, T, b2), b1, b2, test);
+  return detail::overlap(detail::MovedFrame<S>(R, T, b2, world_offsets), b1, b2, test);
 }
 
 template <typename S>

@@ -134,10 +134,11 @@ enum class OverlapTest
 constexpr OverlapTest kDefaultOverlapTest = OverlapTest::kBoxed;
 
 /// Overlap test in FCL's convention: b2 is mapped into b1's coordinates by x1 = R x2 + T.
-/// Padded by the rounding error of the transform and of the corner arithmetic.
+/// Padded by the rounding error of the transform and of the corner arithmetic; world_offsets
+/// (|t1|_1 + |t2|_1 of the query's poses, 0 when there are none) adds that of the world frame.
 template <typename S>
 bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2,
-             OverlapTest test = kDefaultOverlapTest);
+             OverlapTest test = kDefaultOverlapTest, S world_offsets = 0);
 
 /// Lower bound on the distance between b1 and b2 (b2 mapped by x1 = R x2 + T): the largest gap
 /// over the 18 slab directions, minus rounding. P (in b1's coordinates) and Q (in b2's) receive

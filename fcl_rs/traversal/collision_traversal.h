@@ -28,7 +28,7 @@ public:
   bool BVTesting(int b1, int b2) const override
   {
     if (this->enable_statistics) this->num_bv_tests++;
-    return !overlap(R, T, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv, test);
+    return !overlap(R, T, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv, test, world_offsets);
   }
 
   /// BVTesting with model2's node frame already moved: moved2 = detail::MovedFrame(R, T, model2's node b2).
@@ -49,6 +49,7 @@ public:
   fcl::Matrix3<S> R;
   fcl::Vector3<S> T;
   OverlapTest test = kDefaultOverlapTest;
+  S world_offsets = 0;  ///< |t1|_1 + |t2|_1: the overlap test covers the world frame's rounding, as the leaf test does
 };
 
 /// Sets up node for model1 at tf1 against model2 at tf2; false unless both are triangle meshes.
@@ -57,6 +58,7 @@ bool initialize(MeshCollisionTraversalNodeRS<S>& node, const fcl::BVHModel<RS<S>
                 const fcl::Transform3<S>& tf1, const fcl::BVHModel<RS<S>>& model2, const fcl::Transform3<S>& tf2,
                 const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
 {
+  node.world_offsets = tf1.translation().template lpNorm<1>() + tf2.translation().template lpNorm<1>();
   return fcl::detail::setupMeshCollisionOrientedNode(node, model1, tf1, model2, tf2, request, result);
 }
 
@@ -70,7 +72,7 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
 {
   const fcl::BVHModel<RS<S>>& model1 = *node.model1;
   const fcl::BVHModel<RS<S>>& model2 = *node.model2;
-  detail::MovedFrames<S> moved(node.R, node.T, model2);
+  detail::MovedFrames<S> moved(node.R, node.T, model2, node.world_offsets);
   std::vector<std::pair<int, int>> stack;
   stack.reserve(128);
   stack.emplace_back(0, 0);

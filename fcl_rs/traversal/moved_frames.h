@@ -15,14 +15,15 @@ namespace detail {
 
 /// The frames of a model's nodes moved by (R, T) (MovedFrame), each computed when a traversal first asks for it:
 /// a node meets several nodes of the other tree, and moving its frame is about a third of a boxed overlap test.
-/// R and T must outlive the cache.
+/// R and T must outlive the cache; world_offsets as MovedFrame's.
 template <typename S>
 class MovedFrames
 {
 public:
-  MovedFrames(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const fcl::BVHModel<RS<S>>& model)
-    : R_(R), T_(T), model_(model), frames_(new MovedFrame<S>[std::size_t(model.getNumBVs())]),
-      known_(new bool[std::size_t(model.getNumBVs())]())
+  MovedFrames(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const fcl::BVHModel<RS<S>>& model,
+              S world_offsets = 0)
+    : R_(R), T_(T), world_offsets_(world_offsets), model_(model),
+      frames_(new MovedFrame<S>[std::size_t(model.getNumBVs())]), known_(new bool[std::size_t(model.getNumBVs())]())
   {
   }
   const MovedFrame<S>& operator()(int b)
@@ -30,7 +31,7 @@ public:
     const std::size_t i = std::size_t(b);
     if (!known_[i])
     {
-      frames_[i] = MovedFrame<S>(R_, T_, model_.getBV(b).bv);
+      frames_[i] = MovedFrame<S>(R_, T_, model_.getBV(b).bv, world_offsets_);
       known_[i] = true;
     }
     return frames_[i];
@@ -39,6 +40,7 @@ public:
 private:
   const fcl::Matrix3<S>& R_;
   const fcl::Vector3<S>& T_;
+  S world_offsets_;
   const fcl::BVHModel<RS<S>>& model_;
   std::unique_ptr<MovedFrame<S>[]> frames_;  // uninitialised until known_
   std::unique_ptr<bool[]> known_;
