@@ -1,7 +1,8 @@
 // libFuzzer target: bytes -> two triangles (generic, slivers, collinear, a repeated vertex, a point), two poses far
 // from or near the origin, B possibly snapped onto A in the world frame (touching poses) -> the RS leaf test in A's
 // frame against the exact oracle on the world-frame vertices as computed. Aborts when an exactly intersecting pair
-// is not reported, when a reported pair is more than 2 triangleTolerance apart, or on non-finite closest points.
+// is not reported, when a reported pair is more than 2 triangleTolerance apart, on non-finite closest points, or
+// when the verdict (leafReports) differs from the computed distance's (triangleProximity).
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -80,9 +81,12 @@ void check(FuzzedDataProvider& in)
   fcl::Matrix3<S> R;
   fcl::Vector3<S> T;
   fcl::relativeTransform(tf1, tf2, R, T);  // the same arithmetic as the traversal's setup
-  const fcl::Vector3<S> q_in_a[3] = {R * q[0] + T, R * q[1] + T, R * q[2] + T};
-  const S tolerance = fcl_rs::triangleTolerance<S>(p, q, tf1.translation(), tf2.translation(), T);
+  fcl::Vector3<S> q_in_a[3];
+  S tolerance;
+  const bool reported = fcl_rs::leafReports<S>(p, q, R, T, tf1.translation(), tf2.translation(), q_in_a, tolerance);
   const fcl_rs::TriangleProximity<S> near = fcl_rs::triangleProximity(p, q_in_a, tolerance);
+  // The certified crossing that settles most pairs never reports one the distance computation would not.
+  if (reported != near.reported) violation("verdict differs from the computed distance's", double(tolerance));
 
   fcl_rs::test::ExactTriangle wa, wb;
   for (int i = 0; i < 3; ++i)

@@ -2,9 +2,9 @@
 // degenerate meshes (a UV sphere with collapsed poles, needles, duplicated and point triangles, coplanar plates,
 // identical poses sharing every edge and vertex), random and grazing poses (bisection on the exact verdict),
 // offsets to 1e7, float and double. For every pose, with the world-frame vertices as computed (tf * v in S):
-//  * every exactly intersecting triangle pair that reaches the leaf test is reported by the exhaustive RS query,
-//    contacts on and off; pairs the RS overlap test culls first (far from the origin, where the world-to-local
-//    rounding exceeds the overlap test's own tolerance) are counted and printed, not asserted;
+//  * every exactly intersecting triangle pair is reported by the exhaustive RS query, contacts on and off: neither
+//    the leaf test nor the RS overlap test before it (whose rounding bound covers the world translations' rounding,
+//    which far from the origin is what decides grazing pairs) loses one;
 //  * both modes report the same pairs, and first-contact queries (contacts on and off) say "collide" iff the
 //    exhaustive query reported a pair;
 //  * a reported pair that does not exactly intersect is at most 2 triangleTolerance apart (exact distance);
@@ -35,8 +35,9 @@ using fcl_rs::test::ExactTriangle;
 using fcl_rs::test::TrianglePairs;
 using fcl_rs::test::needle;
 using fcl_rs::test::plate;
+using fcl_rs::test::worldTriangles;
 
-constexpr std::size_t kAllContacts = 1000000;
+using fcl_rs::test::kAllContacts;
 
 template <typename S>
 class TriangleIntersection : public ::testing::Test
@@ -134,16 +135,6 @@ struct Scene
   }
 };
 
-template <typename S>
-std::vector<ExactTriangle> worldTriangles(const TriangleMesh<S>& m, const fcl::Transform3<S>& tf)
-{
-  std::vector<Eigen::Vector3d> world;
-  for (const auto& v : m.vertices) world.push_back((tf * v).template cast<double>());  // as computed, in S
-  std::vector<ExactTriangle> out;
-  for (const auto& t : m.triangles) out.push_back({world[t[0]], world[t[1]], world[t[2]]});
-  return out;
-}
-
 bool boxesOverlap(const ExactTriangle& a, const ExactTriangle& b)
 {
   for (int k = 0; k < 3; ++k)
@@ -199,34 +190,31 @@ void checkPose(const Scene<S>& s, const fcl::Transform3<S>& tf1, const fcl::Tran
   tally.reported += long(reported.size());
 
   // The numbers the traversal uses.
-  fcl::Matrix3<S> R;
-  fcl::Vector3<S> T;
-  fcl::relativeTransform(tf1.linear(), tf1.translation(), tf2.linear(), tf2.translation(), R, T);
-  const auto leafInputs = [&](int i, int j, fcl::Vector3<S> p[3], fcl::Vector3<S> q[3], fcl::Vector3<S> q_in_a[3]) {
+  const fcl::Transform3<S> rel = fcl_rs::test::fclRelative(tf1, tf2);
+  const fcl::Matrix3<S> R = rel.linear();
+  const fcl::Vector3<S> T = rel.translation();
+  const auto leafReports = [&](int i, int j) {
+    fcl::Vector3<S> p[3], q[3], q_in_a[3];
     for (int k = 0; k < 3; ++k)
     {
       p[k] = s.a.vertices[s.a.triangles[i][k]];
       q[k] = s.b.vertices[s.b.triangles[j][k]];
-      q_in_a[k] = R * q[k] + T;
     }
-    return fcl_rs::triangleTolerance<S>(p, q, tf1.translation(), tf2.translation(), T);
+    S tolerance;
+    return fcl_rs::leafReports<S>(p, q, R, T, tf1.translation(), tf2.translation(), q_in_a, tolerance);
   };
 
-  // A missed pair is lost either in the leaf test (an error of this header) or by the bounding volumes before
-  // any leaf test runs (the RS overlap test, counted and printed; see docs/robustness.md).
-  long missed = 0;
+  // A missed pair is lost either in the leaf test or by the bounding volumes before any leaf test runs.
+  long missed = 0, culled = 0;
   for (const auto& [i, j] : truth)
   {
     if (reported.count({i, j}) && reported_off.count({i, j})) continue;
-    fcl::Vector3<S> p[3], q[3], q_in_a[3];
-    const S tolerance = leafInputs(i, j, p, q, q_in_a);
-    if (fcl_rs::triangleProximity(p, q_in_a, tolerance).reported)
-      ++tally.culled_by_bv;
-    else
-      ++missed;
+    ++(leafReports(i, j) ? culled : missed);
   }
   tally.missed += missed;
+  tally.culled_by_bv += culled;
   EXPECT_EQ(missed, 0) << "exactly intersecting pairs the leaf test does not report";
+  EXPECT_EQ(culled, 0) << "exactly intersecting pairs the RS overlap test culls before the leaf test";
   if (reported != reported_off) ++tally.mode_mismatches;
   EXPECT_EQ(reported, reported_off) << "contacts on and off must report the same pairs";
   for (const bool contacts : {true, false})
@@ -238,8 +226,7 @@ void checkPose(const Scene<S>& s, const fcl::Transform3<S>& tf1, const fcl::Tran
   {
     if (truth.count({i, j})) continue;
     ++tally.reported_apart;
-    fcl::Vector3<S> p[3], q[3], q_in_a[3];
-    const double bound = 2 * double(leafInputs(i, j, p, q, q_in_a));
+    const double bound = fcl_rs::test::reportedPairBound(s.a, tf1, s.b, tf2, i, j);
     const double distance = fcl_rs::test::exactDistance(wa[i], wb[j]);
     tally.worst_apart_over_bound = std::max(tally.worst_apart_over_bound, distance / bound);
     if (distance > bound) ++tally.beyond_bound;
@@ -384,7 +371,8 @@ TYPED_TEST(TriangleIntersection, IdenticalPosesShareEveryEdgeAndVertex)
   runScene<S>("identical plate", plate<S>(4), plate<S>(4), 2, 0, true);
 }
 
-// The leaf test alone on hand-made degenerate pairs whose answer is known.
+// The leaf test alone on hand-made pairs whose answer is known (degenerate ones, and crossing or touching ones the
+// certified crossing settles or leaves to the distance): its verdict, and the computed distance's, which agree.
 TYPED_TEST(TriangleIntersection, DegeneratePairsByHand)
 {
   using S = TypeParam;
@@ -393,7 +381,9 @@ TYPED_TEST(TriangleIntersection, DegeneratePairsByHand)
   const S tol = fcl_rs::triangleTolerance<S>(tri, tri, V::Zero(), V::Zero(), V::Zero());
   const auto reported = [&](V a, V b, V c) {
     const V q[3] = {a, b, c};
-    return fcl_rs::triangleProximity(tri, q, tol).reported;
+    const bool verdict = fcl_rs::trianglesWithin(tri, q, tol);
+    EXPECT_EQ(verdict, fcl_rs::triangleProximity(tri, q, tol).reported);
+    return verdict;
   };
   const S h = S(0.25);
   EXPECT_TRUE(reported(V(h, h, 0), V(h, h, 0), V(h, h, 0)));                   // a point in the face
@@ -404,6 +394,10 @@ TYPED_TEST(TriangleIntersection, DegeneratePairsByHand)
   EXPECT_TRUE(reported(V(1, 0, 0), V(2, 0, 0), V(3, 0, 0)));                     // touching at a vertex
   EXPECT_TRUE(reported(V(S(0.5), S(0.5), 0), V(1, 1, 0), V(1, 1, 0)));           // touching the hypotenuse
   EXPECT_FALSE(reported(V(S(0.5) + S(0.01), S(0.5) + S(0.01), 0), V(1, 1, 0), V(1, 1, 0)));
+  EXPECT_TRUE(reported(V(h, h, -1), V(h, h, 1), V(2, 2, 0)));                    // a triangle through the face
+  EXPECT_TRUE(reported(V(h, h, 0), V(h, h, 1), V(2, 2, 1)));                     // one resting on the face
+  EXPECT_FALSE(reported(V(h, h, S(0.01)), V(h, h, 1), V(2, 2, 1)));              // and just above it
+  EXPECT_TRUE(reported(V(S(0.5), -1, -1), V(S(0.5), 1, -1), V(S(0.5), 0, 1)));  // across an edge of it
 }
 
 }  // namespace

@@ -48,7 +48,16 @@ struct TriangleProximity
   fcl::Vector3<S> on_b = fcl::Vector3<S>::Zero();
 };
 
-/// The leaf test's tolerance (see the header comment) for triangles p (A's frame) and q (B's frame).
+/// The leaf test's tolerance (see the header comment) for vertices at most `size` in max norm (A's in A's frame,
+/// B's in B's frame), poses translated by t1 and t2, and T as the traversal computed it.
+template <typename S>
+S leafTolerance(S size, const fcl::Vector3<S>& t1, const fcl::Vector3<S>& t2, const fcl::Vector3<S>& T)
+{
+  const S scale = t1.cwiseAbs().maxCoeff() + t2.cwiseAbs().maxCoeff() + T.cwiseAbs().maxCoeff() + 6 * size;
+  return 32 * std::numeric_limits<S>::epsilon() * scale;
+}
+
+/// The leaf test's tolerance for triangles p (A's frame) and q (B's frame).
 template <typename S>
 S triangleTolerance(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], const fcl::Vector3<S>& t1,
                     const fcl::Vector3<S>& t2, const fcl::Vector3<S>& T)
@@ -56,8 +65,7 @@ S triangleTolerance(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], cons
   S size = 0;
   for (int i = 0; i < 3; ++i)
     size = std::max({size, p[i].cwiseAbs().maxCoeff(), q[i].cwiseAbs().maxCoeff()});
-  const S scale = t1.cwiseAbs().maxCoeff() + t2.cwiseAbs().maxCoeff() + T.cwiseAbs().maxCoeff() + 6 * size;
-  return 32 * std::numeric_limits<S>::epsilon() * scale;
+  return leafTolerance<S>(size, t1, t2, T);
 }
 
 namespace detail {
@@ -211,11 +219,59 @@ bool separatedBeyond(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], S t
   return false;
 }
 
+/// Orientation determinants r . (v x w) with a certified sign: for fixed v, w (one cross product), any r. The
+/// filter of Shewchuk's orient3d: to first order the computed value is within 8u perm of the exact one on the given
+/// coordinates (u = eps / 2; r, v, w are differences of given coordinates, and each difference, product and sum
+/// rounds once; perm = |r| . (|v_y w_z| + |v_z w_y|, ...)); the bound doubles that and adds underflow's absolute
+/// error. NaN or overflow give 0.
+template <typename S>
+struct CertainOrientation
+{
+  CertainOrientation(const fcl::Vector3<S>& v, const fcl::Vector3<S>& w)
+    : m(v.cross(w)),
+      m_abs(std::abs(v.y() * w.z()) + std::abs(v.z() * w.y()), std::abs(v.z() * w.x()) + std::abs(v.x() * w.z()),
+            std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()))
+  {
+  }
+  /// The sign of r . (v x w) if certain, else 0.
+  int sign(const fcl::Vector3<S>& r) const
+  {
+    const S det = r.dot(m);
+    const S bound = 8 * std::numeric_limits<S>::epsilon() * r.cwiseAbs().dot(m_abs) +
+                    32 * std::numeric_limits<S>::denorm_min();
+    return det > bound ? 1 : det < -bound ? -1 : 0;
+  }
+  fcl::Vector3<S> m, m_abs;
+};
+
+/// Whether an edge of `from` certainly crosses the interior of triangle `to`: its ends strictly on either side of
+/// to's plane and its line strictly inside to's three edges, every sign certain (CertainOrientation), so the given
+/// triangles intersect exactly. Says nothing on touching, coplanar or degenerate pairs.
+template <typename S>
+bool edgeCertainlyThrough(const fcl::Vector3<S> from[3], const fcl::Vector3<S> to[3])
+{
+  const CertainOrientation<S> plane(to[1] - to[0], to[2] - to[0]);
+  int side[3];
+  for (int i = 0; i < 3; ++i) side[i] = plane.sign(from[i] - to[0]);
+  for (int i = 0; i < 3; ++i)
+  {
+    const int j = (i + 1) % 3;
+    if (side[i] * side[j] >= 0) continue;
+    // The line's side of each edge of `to`: u . (w_k x w_k+1), the three with one sign.
+    const fcl::Vector3<S> u = from[j] - from[i], w[3] = {to[0] - from[i], to[1] - from[i], to[2] - from[i]};
+    const int turn = CertainOrientation<S>(w[0], w[1]).sign(u);
+    if (turn != 0 && CertainOrientation<S>(w[1], w[2]).sign(u) == turn &&
+        CertainOrientation<S>(w[2], w[0]).sign(u) == turn)
+      return true;
+  }
+  return false;
+}
+
 }  // namespace detail
 
-/// The leaf test: p in A's frame, q_in_a B's vertices mapped into A's frame. Reported iff the computed distance
-/// is at most tolerance (triangleTolerance); on_a and on_b are then points of A and B at most tolerance apart
-/// (equal where the triangles cross).
+/// Whether triangles p and q_in_a (B's vertices mapped into A's frame) are at most tolerance apart, with on_a and
+/// on_b points of A and B that far apart (equal where the triangles cross); the distance is computed in the wider
+/// type, after a separating axis has not proved it larger than tolerance.
 template <typename S>
 TriangleProximity<S> triangleProximity(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q_in_a[3], S tolerance)
 {
@@ -232,6 +288,29 @@ TriangleProximity<S> triangleProximity(const fcl::Vector3<S> p[3], const fcl::Ve
   out.on_a = best.on_a.template cast<S>();
   out.on_b = best.on_b.template cast<S>();
   return out;
+}
+
+/// The leaf test's verdict on p and q_in_a: reported iff their distance computed by triangleProximity is at most
+/// tolerance. A pair with an edge certainly through the other's interior (most intersecting pairs) is reported
+/// without it: it intersects exactly, so that distance is zero up to the wider type's rounding.
+template <typename S>
+bool trianglesWithin(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q_in_a[3], S tolerance)
+{
+  return detail::edgeCertainlyThrough(p, q_in_a) || detail::edgeCertainlyThrough(q_in_a, p) ||
+         triangleProximity(p, q_in_a, tolerance).reported;
+}
+
+/// The leaf predicate exactly as the RS traversal runs it on triangle p of A and q of B (model coordinates):
+/// q_in_a = R q + T (written out, the expression FCL's triangle test evaluates) and tolerance = triangleTolerance,
+/// then trianglesWithin. Brute-force checks call this too, so that they and the tree decide every pair alike.
+template <typename S>
+bool leafReports(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], const fcl::Matrix3<S>& R,
+                 const fcl::Vector3<S>& T, const fcl::Vector3<S>& t1, const fcl::Vector3<S>& t2,
+                 fcl::Vector3<S> q_in_a[3], S& tolerance)
+{
+  for (int i = 0; i < 3; ++i) q_in_a[i] = R * q[i] + T;
+  tolerance = triangleTolerance<S>(p, q, t1, t2, T);
+  return trianglesWithin(p, q_in_a, tolerance);
 }
 
 /// A contact for a reported pair where FCL's contact routine is undefined (a zero-area triangle: FCL reads an
@@ -258,7 +337,7 @@ void degenerateContact(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q_in_a[
 }
 
 /// Drop-in replacement for fcl::detail::meshCollisionOrientedNodeLeafTesting (same arguments, same statistics
-/// and cost sources) deciding with triangleProximity. Contacts: FCL's own (Intersect::intersect_Triangle with
+/// and cost sources) deciding with leafReports. Contacts: FCL's own (Intersect::intersect_Triangle with
 /// contact outputs, converted to the world frame exactly as FCL's leaf test does) when both triangles have a
 /// plane FCL can build and FCL's routine gives points; otherwise one degenerateContact.
 template <typename BV>
@@ -281,11 +360,9 @@ void meshTriangleLeafTesting(int b1, int b2, const fcl::BVHModel<BV>* model1, co
   const fcl::Triangle& t2 = tri_indices2[id2];
   const fcl::Vector3<S> p[3] = {vertices1[t1[0]], vertices1[t1[1]], vertices1[t1[2]]};
   const fcl::Vector3<S> q[3] = {vertices2[t2[0]], vertices2[t2[1]], vertices2[t2[2]]};
-  // The same expression FCL's triangle test evaluates, so FCL's contacts below see the same numbers.
-  const fcl::Vector3<S> q_in_a[3] = {R * q[0] + T, R * q[1] + T, R * q[2] + T};
-  const S tolerance = triangleTolerance<S>(p, q, tf1.translation(), tf2.translation(), T);
-  const TriangleProximity<S> near = triangleProximity(p, q_in_a, tolerance);
-  if (!near.reported) return;
+  fcl::Vector3<S> q_in_a[3];  // FCL's contacts below see the same numbers
+  S tolerance;
+  if (!leafReports<S>(p, q, R, T, tf1.translation(), tf2.translation(), q_in_a, tolerance)) return;
 
   if (occupied && request.enable_contact)
   {
@@ -302,7 +379,7 @@ void meshTriangleLeafTesting(int b1, int b2, const fcl::BVHModel<BV>* model1, co
     {
       n_points = 1;
       depth = 0;
-      degenerateContact(p, q_in_a, near, points[0], normal);
+      degenerateContact(p, q_in_a, triangleProximity(p, q_in_a, tolerance), points[0], normal);
     }
     for (unsigned int i = 0; i < n_points && result.numContacts() < request.num_max_contacts; ++i)
       result.addContact(fcl::Contact<S>(model1, model2, id1, id2, tf1 * points[i], tf1.linear() * normal, depth));
