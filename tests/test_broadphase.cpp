@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -106,7 +107,8 @@ std::string ManagerCase<Manager, Scalar>::name()
 }
 
 /// Ten scenes, alternately packed and spread out, in one manager of each kind holding RS objects and one holding
-/// OBBRSS objects of the same triangles: the same contacts, verdicts and minimum distance.
+/// OBBRSS objects of the same triangles: the same contacts (mesh-mesh: within the RS leaf test's contract), verdicts
+/// and minimum distance.
 template <typename Case>
 void checkManager()
 {
@@ -140,16 +142,36 @@ void checkManager()
     rs_manager->collide(&rs_all, fcl_rs::DefaultCollisionFunction<S>);
     obbrss_manager->collide(&obbrss_all, fcl::DefaultCollisionFunction<S>);
     const auto rs_contacts = sceneContacts(rs_all.result, scene.rs_geometry);
-    EXPECT_EQ(rs_contacts, sceneContacts(obbrss_all.result, scene.obbrss_geometry));
+    const auto obbrss_contacts = sceneContacts(obbrss_all.result, scene.obbrss_geometry);
+    // Per object pair: mesh-shape pairs run FCL's own leaf tests, so the same triangles; mesh-mesh pairs run RS's
+    // leaf test, judged against FCL's triangle test by its contract (touching pairs may differ).
+    std::map<std::pair<int, int>, std::pair<fcl_rs::test::TrianglePairs, fcl_rs::test::TrianglePairs>> by_objects;
+    for (const auto& [i1, i2, b1, b2] : rs_contacts) by_objects[{i1, i2}].first.emplace(b1, b2);
+    for (const auto& [i1, i2, b1, b2] : obbrss_contacts) by_objects[{i1, i2}].second.emplace(b1, b2);
+    S touching_slack = 0;  // how far apart a pair RS reports beyond FCL's may be
+    for (const auto& [objects, found] : by_objects)
+    {
+      const auto& [rs_pairs, obbrss_pairs] = found;
+      const auto [i1, i2] = objects;
+      if (i2 >= int(meshes.size()))
+      {
+        EXPECT_EQ(rs_pairs, obbrss_pairs) << "objects " << i1 << ", " << i2;
+        continue;
+      }
+      const auto &tf1 = scene.rs[i1]->getTransform(), &tf2 = scene.rs[i2]->getTransform();
+      EXPECT_EQ(fcl_rs::test::leafContractViolations(meshes[i1], tf1, meshes[i2], tf2, rs_pairs, obbrss_pairs), "")
+          << "objects " << i1 << ", " << i2;
+      for (const auto& [b1, b2] : rs_pairs)
+        if (!obbrss_pairs.count({b1, b2}))
+          touching_slack = std::max(touching_slack, S(fcl_rs::test::reportedPairBound(meshes[i1], tf1, meshes[i2], tf2, b1, b2)));
+    }
     std::set<std::pair<int, int>> object_pairs;
     for (const auto& c : rs_contacts) object_pairs.emplace(std::get<0>(c), std::get<1>(c));
     pairs += object_pairs.size();
 
-    // Default request (first contact only): the same verdict.
-    fcl::DefaultCollisionData<S> rs_first, obbrss_first;
+    // Default request (first contact only): the verdict of the exhaustive query.
+    fcl::DefaultCollisionData<S> rs_first;
     rs_manager->collide(&rs_first, fcl_rs::DefaultCollisionFunction<S>);
-    obbrss_manager->collide(&obbrss_first, fcl::DefaultCollisionFunction<S>);
-    EXPECT_EQ(rs_first.result.isCollision(), obbrss_first.result.isCollision());
     EXPECT_EQ(rs_first.result.isCollision(), !rs_contacts.empty());
 
     fcl_rs::DefaultDistanceData<S> rs_dist;
@@ -160,8 +182,8 @@ void checkManager()
     max_rel = std::max<double>(max_rel, std::abs(d - d_ref) / std::max<S>(std::abs(d_ref), 1));
     EXPECT_TRUE(closeDistances(d, d_ref, S(1))) << "minimum distance: RS " << d << ", OBBRSS " << d_ref;
     // Not the converse: at grazing poses FCL's triangle distance can round to 0 where its intersection test
-    // finds no contact (seen in float, for RS and OBBRSS alike).
-    if (!rs_contacts.empty()) { EXPECT_LE(d, 0); }
+    // finds no contact (seen in float, for RS and OBBRSS alike). A pair only RS reports may be touching_slack apart.
+    if (!rs_contacts.empty()) { EXPECT_LE(d, touching_slack); }
     (rs_contacts.empty() ? free_scenes : colliding_scenes)++;
   }
   std::cout << "[distance] broadphase " << what << " (" << scalarName<S>() << "): 10 scenes, " << colliding_scenes

@@ -41,7 +41,6 @@ namespace {
 
 using fcl_rs::TriangleMesh;
 using fcl_rs::test::allContactsRequest;
-using fcl_rs::test::fclRelative;
 using fcl_rs::test::nearbyPoses;
 using fcl_rs::test::poseString;
 using fcl_rs::test::scalarName;
@@ -147,7 +146,7 @@ template <typename S>
 TrianglePairs bruteForce(const Mesh<S>& a, const fcl::Transform3<S>& tf1, const Mesh<S>& b,
                          const fcl::Transform3<S>& tf2)
 {
-  return fcl_rs::test::bruteForcePairs(a.tri, fcl::Transform3<S>::Identity(), b.tri, fclRelative(tf1, tf2));
+  return fcl_rs::test::bruteForcePairs(a.tri, tf1, b.tri, tf2);
 }
 
 /// A contact as a comparable value (everything but the geometry pointers).
@@ -194,10 +193,11 @@ void logTally(const std::string& what, const PairTally& t)
 // A runaway failure would print thousands of poses; a handful is enough to reproduce.
 constexpr int kMaxFailingPoses = 5;
 
-/// Everything checked on one mesh-mesh pose against the brute-force pair set:
-///  exhaustive RS == brute force; first-contact verdict; with contacts, RS pairs within brute force and RS
-///  contacts identical to FCL's OBB tree's (when the OBB tree itself finds every pair), both leaf tests being the
-///  same code on the same (R, T). Returns false on failure.
+/// Everything checked on one mesh-mesh pose against the brute-force pair set (the RS leaf test on every pair):
+///  exhaustive RS == brute force (no pair lost to the bounding volumes); first-contact verdict; with contacts, RS
+///  pairs within brute force; against FCL's OBB tree, the leaf test's contract (leafContractViolations) and, on
+///  the pairs both report, RS contacts identical to FCL's (the leaf test keeps FCL's contacts where they are
+///  defined, on the same (R, T)). Returns false on failure.
 template <typename S>
 bool checkMeshPose(const Mesh<S>& a, const fcl::Transform3<S>& tf1, const Mesh<S>& b, const fcl::Transform3<S>& tf2,
                    PairTally& tally, const std::string& kind = "")
@@ -229,42 +229,38 @@ bool checkMeshPose(const Mesh<S>& a, const fcl::Transform3<S>& tf1, const Mesh<S
                             << brute.size() << " pairs";
     EXPECT_TRUE(pair_ok) << "first contact is not an intersecting pair";
   }
-  {  // contact geometry: RS pairs within brute force, contacts identical to the OBB tree's
+  {  // contact geometry: RS pairs within brute force; against the OBB tree, the leaf test's contract and FCL's contacts
     fcl::CollisionResult<S> rs_res, obb_res, obb_plain;
     fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, allContactsRequest<S>(true), rs_res);
     fcl::collide(a.obb.get(), tf1, b.obb.get(), tf2, allContactsRequest<S>(true), obb_res);
     fcl::collide(a.obb.get(), tf1, b.obb.get(), tf2, allContactsRequest<S>(false), obb_plain);
-    const TrianglePairs rs_pairs = fcl_rs::test::contactPairs(rs_res);
+    const TrianglePairs rs_pairs = fcl_rs::test::contactPairs(rs_res), obb = fcl_rs::test::contactPairs(obb_plain);
     const bool subset = std::includes(brute.begin(), brute.end(), rs_pairs.begin(), rs_pairs.end());
-    ok &= subset;
+    const std::string violations = fcl_rs::test::leafContractViolations(a.tri, tf1, b.tri, tf2, brute, obb);
+    ok &= subset && violations.empty();
     EXPECT_TRUE(subset) << "enable_contact: RS pairs not found by brute force: " << onlyIn(rs_pairs, brute);
-    if (fcl_rs::test::contactPairs(obb_plain) == brute)
+    EXPECT_EQ(violations, "") << "RS against the OBB tree";
+    // Contacts of the pairs both report, zero-area triangles aside (undefined in FCL, see flatTriangles): FCL's own.
+    const auto defined = [&](const fcl::CollisionResult<S>& r, const TrianglePairs& other) {
+      std::vector<ContactKey<S>> keys;
+      for (const auto& k : contactKeys(r))
+        if (!a.flat[std::get<0>(k)] && !b.flat[std::get<1>(k)] && other.count({std::get<0>(k), std::get<1>(k)}))
+          keys.push_back(k);
+      return keys;
+    };
+    const TrianglePairs obb_contact_pairs = fcl_rs::test::contactPairs(obb_res);
+    const auto rs_keys = defined(rs_res, obb_contact_pairs), obb_keys = defined(obb_res, rs_pairs);
+    tally.flat_contacts += rs_res.numContacts() - defined(rs_res, rs_pairs).size();
+    const bool same = rs_keys == obb_keys;
+    ok &= same;
+    EXPECT_EQ(rs_keys.size(), obb_keys.size()) << "enable_contact: RS and OBB contact counts differ on common pairs";
+    EXPECT_TRUE(same) << "enable_contact: RS and OBB contacts differ on the pairs both report";
+    if (obb != brute)
     {
-      // Contacts on zero-area triangles are undefined in FCL (see flatTriangles): compare the rest exactly.
-      const auto defined = [&](const fcl::CollisionResult<S>& r) {
-        std::vector<ContactKey<S>> keys;
-        for (const auto& k : contactKeys(r))
-          if (!a.flat[std::get<0>(k)] && !b.flat[std::get<1>(k)]) keys.push_back(k);
-        return keys;
-      };
-      const auto rs_keys = defined(rs_res), obb_keys = defined(obb_res);
-      tally.flat_contacts += rs_res.numContacts() - rs_keys.size();
-      TrianglePairs rs_defined, obb_defined;
-      for (const auto& k : rs_keys) rs_defined.emplace(std::get<0>(k), std::get<1>(k));
-      for (const auto& k : obb_keys) obb_defined.emplace(std::get<0>(k), std::get<1>(k));
-      const bool same = rs_keys == obb_keys;
-      ok &= same;
-      EXPECT_EQ(rs_keys.size(), obb_keys.size()) << "enable_contact: RS and OBB contact counts differ";
-      EXPECT_TRUE(same) << "enable_contact: RS and OBB contacts differ; RS-only pairs "
-                        << onlyIn(rs_defined, obb_defined) << ", OBB-only pairs " << onlyIn(obb_defined, rs_defined);
-    }
-    else
-    {
-      // FCL's OBB tree pruned a real contact (or found a false one): brute force already judged RS above.
+      // FCL's triangle test differs from RS's on touching pairs; the contract above judged them.
       ++tally.obb_disagreements;
-      const TrianglePairs obb = fcl_rs::test::contactPairs(obb_plain);
-      std::cout << "[collide] OBB disagrees with brute force: " << a.name << " vs " << b.name << " ("
-                << scalarName<S>() << ")" << kind << " pose #" << tally.poses - 1 << ": OBB missed " << onlyIn(brute, obb)
+      std::cout << "[collide] OBB differs from RS's brute force: " << a.name << " vs " << b.name << " ("
+                << scalarName<S>() << ")" << kind << " pose #" << tally.poses - 1 << ": OBB lacks " << onlyIn(brute, obb)
                 << ", OBB extra " << onlyIn(obb, brute) << "\n";
     }
   }
@@ -349,34 +345,40 @@ template <typename S>
 class CollideMeshMesh : public ::testing::Test {};
 TYPED_TEST_SUITE(CollideMeshMesh, fcl_rs::test::Scalars);
 
-// The oracle's grid only chooses which pairs get FCL's triangle test: it must find exactly what testing
-// every pair finds, here on touching, crossing, nested and far-off poses with large offsets.
+// The brute forces' grid only chooses which pairs get a triangle test: both (RS's leaf test, FCL's test) must find
+// exactly what testing every pair finds, here on touching, crossing, nested and far-off poses with large offsets.
 TYPED_TEST(CollideMeshMesh, OracleGridFindsWhatTestingEveryPairFinds)
 {
   using S = TypeParam;
-  const auto sphere = fcl_rs::makeSphere<S>(1, 12, 24);
-  const auto torus = fcl_rs::makeTorus<S>(1, S(0.3), 24, 12);
+  // 400 x 400 triangle pairs, each tested both ways: about the all-pairs work a single test had at 576 x 576.
+  const auto sphere = fcl_rs::makeSphere<S>(1, 10, 20);
+  const auto torus = fcl_rs::makeTorus<S>(1, S(0.3), 20, 10);
   auto rng = fcl_rs::test::seededRng("oracle grid");
   int colliding = 0;
   for (int pose = 0; pose < 40; ++pose)
   {
     fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(pose % 4 == 0 ? 1e4 : 1));
     fcl::Transform3<S> tf2 = tf1 * fcl_rs::test::randomPose<S>(rng, S(pose % 8) / 2);
-    fcl::Matrix3<S> R;
-    fcl::Vector3<S> T;
-    fcl::relativeTransform(tf1.linear(), tf1.translation(), tf2.linear(), tf2.translation(), R, T);
-    TrianglePairs every;
+    const fcl::Transform3<S> rel = fcl_rs::test::fclRelative(tf1, tf2);
+    TrianglePairs every_leaf, every_fcl;
     for (std::size_t i = 0; i < sphere.triangles.size(); ++i)
       for (std::size_t j = 0; j < torus.triangles.size(); ++j)
       {
         const auto &a = sphere.triangles[i], &b = torus.triangles[j];
-        if (fcl::detail::Intersect<S>::intersect_Triangle(sphere.vertices[a[0]], sphere.vertices[a[1]],
-                                                            sphere.vertices[a[2]], torus.vertices[b[0]],
-                                                            torus.vertices[b[1]], torus.vertices[b[2]], R, T))
-          every.emplace(int(i), int(j));
+        const fcl::Vector3<S> p[3] = {sphere.vertices[a[0]], sphere.vertices[a[1]], sphere.vertices[a[2]]};
+        const fcl::Vector3<S> q[3] = {torus.vertices[b[0]], torus.vertices[b[1]], torus.vertices[b[2]]};
+        fcl::Vector3<S> q_in_a[3];
+        S tolerance;
+        if (fcl_rs::leafReports<S>(p, q, rel.linear(), rel.translation(), tf1.translation(), tf2.translation(), q_in_a,
+                                   tolerance))
+          every_leaf.emplace(int(i), int(j));
+        if (fcl::detail::Intersect<S>::intersect_Triangle(p[0], p[1], p[2], q[0], q[1], q[2], rel.linear(),
+                                                            rel.translation()))
+          every_fcl.emplace(int(i), int(j));
       }
-    EXPECT_EQ(fcl_rs::test::bruteForcePairs(sphere, tf1, torus, tf2), every) << "pose #" << pose;
-    colliding += !every.empty();
+    EXPECT_EQ(fcl_rs::test::bruteForcePairs(sphere, tf1, torus, tf2), every_leaf) << "pose #" << pose;
+    EXPECT_EQ(fcl_rs::test::fclBruteForcePairs(sphere, tf1, torus, tf2), every_fcl) << "pose #" << pose;
+    colliding += !every_leaf.empty();
   }
   EXPECT_GE(colliding, 10);
   EXPECT_LE(colliding, 30);
@@ -436,7 +438,8 @@ TYPED_TEST(CollideMeshMesh, PandaLinksMatchBruteForce)
 }
 
 // ---------------------------------------------------------------------------------------------------------------
-// Larger meshes: FCL's OBB tree is the reference; brute force decides where the two disagree.
+// Larger meshes: FCL's OBB tree is the reference; where RS differs from it, brute force (the RS leaf test on every
+// pair) and the leaf test's contract against FCL's pairs decide.
 
 template <typename S>
 void checkAgainstOBB(const std::string& what, const Mesh<S>& a, const Mesh<S>& b,
@@ -454,21 +457,23 @@ void checkAgainstOBB(const std::string& what, const Mesh<S>& a, const Mesh<S>& b
     fcl_rs::collide<S>(a.rs.get(), tf1, b.rs.get(), tf2, fcl::CollisionRequest<S>(), rs_first);
     const TrianglePairs rs = fcl_rs::test::contactPairs(rs_res), obb = fcl_rs::test::contactPairs(obb_res);
     EXPECT_EQ(rs.size(), rs_res.numContacts()) << "a triangle pair was reported twice";
-    TrianglePairs truth = obb;
+    // Where RS and the OBB tree agree, that is the truth (both trees would have to lose the same pair); where they
+    // differ, brute force (RS's leaf test on every pair) and the leaf test's contract against FCL's pairs decide.
+    TrianglePairs truth = rs;
+    std::string violations;
     if (rs != obb)
     {
       truth = bruteForce(a, tf1, b, tf2);
-      if (obb != truth)
-      {
-        ++tally.obb_disagreements;
-        std::cout << "[collide] OBB disagrees with brute force: " << what << " pose #" << tally.poses - 1
-                  << ": OBB missed " << onlyIn(truth, obb) << ", OBB extra " << onlyIn(obb, truth) << "\n";
-      }
+      violations = fcl_rs::test::leafContractViolations(a.tri, tf1, b.tri, tf2, rs, obb);
+      ++tally.obb_disagreements;
+      std::cout << "[collide] OBB differs from RS: " << what << " pose #" << tally.poses - 1 << ": OBB lacks "
+                << onlyIn(rs, obb) << ", OBB extra " << onlyIn(obb, rs) << "\n";
     }
     tally.colliding += !truth.empty();
     tally.pairs += truth.size();
-    const bool ok = rs == truth && rs_first.isCollision() == !truth.empty();
+    const bool ok = rs == truth && violations.empty() && rs_first.isCollision() == !truth.empty();
     EXPECT_TRUE(rs == truth) << "RS missed " << onlyIn(truth, rs) << "; RS extra " << onlyIn(rs, truth);
+    EXPECT_EQ(violations, "") << "RS against the OBB tree";
     EXPECT_EQ(rs_first.isCollision(), !truth.empty()) << "first-contact verdict";
     if (!ok && ++tally.failing_poses >= kMaxFailingPoses)
     {

@@ -8,7 +8,7 @@
 //    tolerance is relative to the node's own size and the point's distance from the node's mean, NOT to the
 //    distance from the model origin, so far-from-origin meshes get no extra slack;
 //  * the RS tree against two oracles on every triangle pair (checkFrame):
-//      - FCL's own triangle test in a brute-force loop (bruteForcePairs), which the tree's leaves ran until they got
+//      - FCL's own triangle test in a brute-force loop (fclBruteForcePairs), which the tree's leaves ran until they got
 //        their own test (fcl_rs/narrowphase/triangle_intersection.h; judged exactly in test_triangle_intersection);
 //      - an exact separating-axis oracle (separation()): the largest gap over every candidate axis of two closed
 //        triangles (normals, edge-edge crosses, in-plane edge normals, and the vertex-vertex and vertex-edge
@@ -389,7 +389,7 @@ Frame<S> evaluate(const Built<S>& a, const fcl::Transform3<S>& tf1, const Built<
   f.tf1 = tf1;
   f.tf2 = tf2;
   const fcl::Transform3<S> rel = fclRelative(tf1, tf2);
-  f.fcl = fcl_rs::test::bruteForcePairs(a.mesh, fcl::Transform3<S>::Identity(), b.mesh, rel);
+  f.fcl = fcl_rs::test::fclBruteForcePairs(a.mesh, tf1, b.mesh, tf2);
   f.tree = treePairs(a, tf1, b, tf2);
   f.verdict = treeVerdict(a, tf1, b, tf2);
   f.magnitude = std::max<long double>(a.magnitude, b.magnitude + rel.translation().cwiseAbs().maxCoeff());

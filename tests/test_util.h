@@ -1,4 +1,5 @@
-// Shared test helpers: seeded and logged randomness, uniform and nearby poses, meshes, brute-force oracle,
+// Shared test helpers: seeded and logged randomness, uniform and nearby poses, meshes, brute-force oracles, the
+// RS leaf test's contract against FCL's trees (exact oracle: link fcl_rs_exact_oracle to use it),
 // requests, messages, and the data files tests need.
 #ifndef FCL_RS_TESTS_TEST_UTIL_H
 #define FCL_RS_TESTS_TEST_UTIL_H
@@ -25,10 +26,12 @@
 #include <fcl/narrowphase/detail/traversal/collision/intersect.h>
 #include <gtest/gtest.h>
 
+#include "exact_oracle.h"
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/bvh/refit_model.h"
 #include "fcl_rs/mesh/load_mesh.h"
 #include "fcl_rs/mesh/shapes.h"
+#include "fcl_rs/narrowphase/triangle_intersection.h"
 
 namespace fcl_rs {
 namespace test {
@@ -145,9 +148,9 @@ std::pair<fcl::Transform3<S>, fcl::Transform3<S>> nearbyPoses(Rng& rng, const A&
   return {tf_a, nearbyPose(rng, a, tf_a, b, spread)};
 }
 
-/// (R, T) exactly as FCL's oriented nodes compute them (fcl::relativeTransform), as one transform. Handing the
-/// brute force (identity, this) makes the oracle run each triangle test on the very same R and T the tree uses,
-/// so a difference can only come from pruning, not from the rounding of a differently computed tf1^-1 tf2.
+/// (R, T) exactly as FCL's oriented nodes compute them (fcl::relativeTransform), as one transform. The brute forces
+/// below run each triangle test on it, the very R and T the tree uses, so a difference from a tree can only come
+/// from pruning, not from the rounding of a differently computed tf1^-1 tf2.
 template <typename S>
 fcl::Transform3<S> fclRelative(const fcl::Transform3<S>& tf1, const fcl::Transform3<S>& tf2)
 {
@@ -222,29 +225,22 @@ TriangleMesh<S> needle(int n = 12)
 
 using TrianglePairs = std::set<std::pair<int, int>>;
 
-/// Every intersecting triangle pair, with FCL's own local-frame triangle test (x1 = R x2 + T) on every pair
-/// whose padded boxes touch. Candidates come from a uniform grid over mesh 2's padded boxes (about one
-/// triangle per cell) rather than a loop over all n x m pairs, so the oracle stays affordable on large
-/// meshes and under the sanitizers; a box is in every cell it overlaps, so no touching pair is skipped.
-template <typename S>
-TrianglePairs bruteForcePairs(const TriangleMesh<S>& m1, const fcl::Transform3<S>& tf1, const TriangleMesh<S>& m2,
-                              const fcl::Transform3<S>& tf2)
+/// The triangle pairs (i of m1, j of m2) that `accept(i, j)` accepts among those whose boxes come within pad of
+/// each other, in A's frame with m2's vertices moved by rel = (R, T). Candidates come from a uniform grid over
+/// m2's padded boxes (about one triangle per cell) rather than a loop over all n x m pairs, so the brute forces
+/// stay affordable on large meshes and under the sanitizers; a box is in every cell it overlaps, so no pair
+/// within pad is skipped.
+template <typename S, typename Accept>
+TrianglePairs pairsWithinPad(const TriangleMesh<S>& m1, const TriangleMesh<S>& m2, const fcl::Transform3<S>& rel, S pad,
+                             Accept accept)
 {
-  // The same relative transform, rounded the same way, as FCL's oriented traversal setup.
-  fcl::Matrix3<S> R;
-  fcl::Vector3<S> T;
-  fcl::relativeTransform(tf1.linear(), tf1.translation(), tf2.linear(), tf2.translation(), R, T);
   std::vector<fcl::Vector3<S>> moved;
   moved.reserve(m2.vertices.size());
-  for (const auto& v : m2.vertices) moved.push_back(R * v + T);
+  for (const auto& v : m2.vertices) moved.push_back(rel.linear() * v + rel.translation());
   using Box = std::pair<fcl::Vector3<S>, fcl::Vector3<S>>;
   auto box = [](const fcl::Vector3<S>& a, const fcl::Vector3<S>& b, const fcl::Vector3<S>& c) {
     return Box(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c));
   };
-  S scale = 0;
-  for (const auto& v : m1.vertices) scale = std::max(scale, v.cwiseAbs().maxCoeff());
-  for (const auto& v : moved) scale = std::max(scale, v.cwiseAbs().maxCoeff());
-  const S pad = 64 * std::numeric_limits<S>::epsilon() * (scale + T.cwiseAbs().maxCoeff());
   TrianglePairs pairs;
   if (m1.triangles.empty() || m2.triangles.empty()) return pairs;
 
@@ -298,15 +294,59 @@ TrianglePairs bruteForcePairs(const TriangleMesh<S>& m1, const fcl::Transform3<S
         const Box& b2 = boxes2[j];
         if (((b1.first.array() - pad) > b2.second.array()).any() || ((b2.first.array() - pad) > b1.second.array()).any())
           continue;
-        const auto& t2 = m2.triangles[j];
-        if (fcl::detail::Intersect<S>::intersect_Triangle(m1.vertices[t1[0]], m1.vertices[t1[1]], m1.vertices[t1[2]],
-                                                            m2.vertices[t2[0]], m2.vertices[t2[1]], m2.vertices[t2[2]],
-                                                            R, T))
-          pairs.emplace(int(i), j);
+        if (accept(int(i), j)) pairs.emplace(int(i), j);
       }
     });
   }
   return pairs;
+}
+
+/// Largest |coordinate| of any vertex of m1 or m2 (each in its own frame).
+template <typename S>
+S largestCoordinate(const TriangleMesh<S>& m1, const TriangleMesh<S>& m2)
+{
+  S size = 0;
+  for (const auto* m : {&m1, &m2})
+    for (const auto& v : m->vertices) size = std::max(size, v.cwiseAbs().maxCoeff());
+  return size;
+}
+
+/// Every triangle pair the RS leaf test reports, checked on every pair whose boxes come within twice its
+/// tolerance (the leaf test reports nothing farther): fcl_rs::leafReports on the (R, T) the traversal computes
+/// from tf1 and tf2. A tree reporting exactly these has lost no pair to its bounding volumes.
+template <typename S>
+TrianglePairs bruteForcePairs(const TriangleMesh<S>& m1, const fcl::Transform3<S>& tf1, const TriangleMesh<S>& m2,
+                              const fcl::Transform3<S>& tf2)
+{
+  const fcl::Transform3<S> rel = fclRelative(tf1, tf2);
+  const S pad = 2 * leafTolerance<S>(largestCoordinate(m1, m2), tf1.translation(), tf2.translation(), rel.translation());
+  return pairsWithinPad(m1, m2, rel, pad, [&](int i, int j) {
+    const auto &t1 = m1.triangles[i], &t2 = m2.triangles[j];
+    const fcl::Vector3<S> p[3] = {m1.vertices[t1[0]], m1.vertices[t1[1]], m1.vertices[t1[2]]};
+    const fcl::Vector3<S> q[3] = {m2.vertices[t2[0]], m2.vertices[t2[1]], m2.vertices[t2[2]]};
+    fcl::Vector3<S> q_in_a[3];
+    S tolerance;
+    return leafReports<S>(p, q, rel.linear(), rel.translation(), tf1.translation(), tf2.translation(), q_in_a,
+                          tolerance);
+  });
+}
+
+/// Every pair FCL's own local-frame triangle test (x1 = R x2 + T) calls intersecting, the test FCL's trees run at
+/// their leaves; pairs farther apart than a few ulps of the coordinates (B's moved ones at most 2 |v| + |T|) are
+/// never checked (FCL reports none).
+template <typename S>
+TrianglePairs fclBruteForcePairs(const TriangleMesh<S>& m1, const fcl::Transform3<S>& tf1, const TriangleMesh<S>& m2,
+                                 const fcl::Transform3<S>& tf2)
+{
+  const fcl::Transform3<S> rel = fclRelative(tf1, tf2);
+  const S pad = 64 * std::numeric_limits<S>::epsilon() *
+                (2 * largestCoordinate(m1, m2) + 2 * rel.translation().cwiseAbs().maxCoeff());
+  return pairsWithinPad(m1, m2, rel, pad, [&](int i, int j) {
+    const auto &t1 = m1.triangles[i], &t2 = m2.triangles[j];
+    return fcl::detail::Intersect<S>::intersect_Triangle(m1.vertices[t1[0]], m1.vertices[t1[1]], m1.vertices[t1[2]],
+                                                          m2.vertices[t2[0]], m2.vertices[t2[1]], m2.vertices[t2[2]],
+                                                          rel.linear(), rel.translation());
+  });
 }
 
 /// The triangle pairs a collision result reports.
@@ -317,6 +357,57 @@ TrianglePairs contactPairs(const fcl::CollisionResult<S>& result)
   for (std::size_t i = 0; i < result.numContacts(); ++i)
     pairs.emplace(result.getContact(i).b1, result.getContact(i).b2);
   return pairs;
+}
+
+/// World-frame triangles as computed (tf * v in S, then widened exactly to double): what the exact oracle judges.
+template <typename S>
+std::vector<ExactTriangle> worldTriangles(const TriangleMesh<S>& m, const fcl::Transform3<S>& tf)
+{
+  std::vector<Eigen::Vector3d> world;
+  world.reserve(m.vertices.size());
+  for (const auto& v : m.vertices) world.push_back((tf * v).template cast<double>());
+  std::vector<ExactTriangle> out;
+  out.reserve(m.triangles.size());
+  for (const auto& t : m.triangles) out.push_back({world[t[0]], world[t[1]], world[t[2]]});
+  return out;
+}
+
+/// How far apart (exact world distance) triangle i of a and j of b can be when the RS leaf test reports them:
+/// 2 triangleTolerance on the numbers the traversal uses.
+template <typename S>
+double reportedPairBound(const TriangleMesh<S>& a, const fcl::Transform3<S>& tf1, const TriangleMesh<S>& b,
+                         const fcl::Transform3<S>& tf2, int i, int j)
+{
+  fcl::Vector3<S> p[3], q[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    p[k] = a.vertices[a.triangles[i][k]];
+    q[k] = b.vertices[b.triangles[j][k]];
+  }
+  return 2 * double(triangleTolerance<S>(p, q, tf1.translation(), tf2.translation(), fclRelative(tf1, tf2).translation()));
+}
+
+/// RS's triangle pairs against those of one of FCL's trees on the same meshes and poses, under the RS leaf test's
+/// contract (docs/robustness.md). FCL's triangle test is not exact, so its pairs are no ground truth on touching
+/// poses: RS must report each of them that exactly intersects (one exactly apart may be missing), and each pair RS
+/// reports beyond them must be at most reportedPairBound apart (exact distance). Returns the violations, or "".
+template <typename S>
+std::string leafContractViolations(const TriangleMesh<S>& a, const fcl::Transform3<S>& tf1, const TriangleMesh<S>& b,
+                                   const fcl::Transform3<S>& tf2, const TrianglePairs& rs, const TrianglePairs& fcl)
+{
+  if (rs == fcl) return "";
+  const auto wa = worldTriangles(a, tf1), wb = worldTriangles(b, tf2);
+  std::ostringstream o;
+  for (const auto& [i, j] : fcl)
+    if (!rs.count({i, j}) && exactlyIntersect(wa[i], wb[j]))
+      o << " (" << i << ',' << j << ") intersects exactly, FCL reports it and RS does not;";
+  for (const auto& [i, j] : rs)
+  {
+    if (fcl.count({i, j})) continue;
+    const double distance = exactDistance(wa[i], wb[j]), bound = reportedPairBound(a, tf1, b, tf2, i, j);
+    if (distance > bound) o << " (" << i << ',' << j << ") RS reports it " << distance << " apart, bound " << bound << ";";
+  }
+  return o.str();
 }
 
 /// Path under ../shared/data, or empty when that folder is absent (see FCL_RS_MISSING_SHARED_DATA).
