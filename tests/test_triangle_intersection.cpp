@@ -400,4 +400,19 @@ TYPED_TEST(TriangleIntersection, DegeneratePairsByHand)
   EXPECT_TRUE(reported(V(S(0.5), -1, -1), V(S(0.5), 1, -1), V(S(0.5), 0, 1)));  // across an edge of it
 }
 
+// Found by fuzz_triangle_intersection (fuzz/corpus/fuzz_triangle_intersection/sliver-tip-beyond): A a segment, B a
+// sliver (collinear in its own frame, 1e-14 wide after the move into A's frame) whose tip A's line passes 0.016
+// beyond. The edge signs of the sliver are rounding noise there; the distance must still not call it touching.
+TEST(TriangleIntersectionCases, PointBeyondASliversTipIsNotInside)
+{
+  using V = fcl::Vector3<double>;
+  const V p[3] = {V(-0.09375, -4, -4), V(-64, -3.88671875, -4), V(127.71875, -4.2265625, -4)};
+  const V q[3] = {V(-108.62500000000003, -52.625, -4.0000000000000027), V(-4.0000000000000009, -4, -4),
+                  V(-317.87500000000006, -149.875, -4.0000000000000089)};
+  const double tolerance = 1.3566037182499713e-11;
+  EXPECT_FALSE(fcl_rs::triangleProximity(p, q, tolerance).reported);
+  EXPECT_FALSE(fcl_rs::trianglesWithin(p, q, tolerance));
+  EXPECT_GT(fcl_rs::test::exactDistance({p[0], p[1], p[2]}, {q[0], q[1], q[2]}), 0.01);
+}
+
 }  // namespace

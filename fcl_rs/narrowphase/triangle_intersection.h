@@ -120,10 +120,16 @@ void segmentSegment(const Vec3<W>& p0, const Vec3<W>& p1, const Vec3<W>& q0, con
   if (s > 0 && s < 1 && t > 0 && t < 1) best.offer(p0 + s * d1, q0 + t * d2);
 }
 
-/// Whether x, a point of the plane of (v0, v1, v2) with normal n, lies in the closed triangle.
+/// Whether x, a point of the plane of (v0, v1, v2) with normal n, lies in the closed triangle: the three edge
+/// signs, and within margin of the triangle's box. The signs alone are ill-conditioned beyond a sliver's sharp tips
+/// (every edge line passes within rounding of such a point), where they can call a point inside that lies as far
+/// beyond the tip as rounding times the aspect ratio; there the point leaves the box by a third of that distance,
+/// so the box settles it, and elsewhere a wrong sign means a point within rounding of the triangle.
 template <typename W>
-bool insideTriangle(const Vec3<W> v[3], const Vec3<W>& n, const Vec3<W>& x)
+bool insideTriangle(const Vec3<W> v[3], const Vec3<W>& n, const Vec3<W>& x, W margin)
 {
+  const Vec3<W> lo = v[0].cwiseMin(v[1]).cwiseMin(v[2]), hi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+  if (((x - lo).array() < -margin).any() || ((x - hi).array() > margin).any()) return false;
   for (int i = 0; i < 3; ++i)
     if ((v[(i + 1) % 3] - v[i]).cross(x - v[i]).dot(n) < 0) return false;
   return true;
@@ -136,6 +142,7 @@ bool insideTriangle(const Vec3<W> v[3], const Vec3<W>& n, const Vec3<W>& x)
 template <typename W>
 ClosestSoFar<W> triangleDistance(const Vec3<W> a[3], const Vec3<W> b[3], W stop)
 {
+  const W margin = std::sqrt(stop);
   ClosestSoFar<W> best;
   const Vec3<W> na = (a[1] - a[0]).cross(a[2] - a[0]), nb = (b[1] - b[0]).cross(b[2] - b[0]);
   const bool a_has_area = na.squaredNorm() > 0, b_has_area = nb.squaredNorm() > 0;
@@ -147,7 +154,7 @@ ClosestSoFar<W> triangleDistance(const Vec3<W> a[3], const Vec3<W> b[3], W stop)
       const W d0 = n.dot(s0 - to[0]), d1 = n.dot(s1 - to[0]);
       if ((d0 > 0 && d1 > 0) || (d0 < 0 && d1 < 0) || (d0 == 0 && d1 == 0)) continue;  // coplanar: edges decide
       const Vec3<W> x = s0 + (d0 / (d0 - d1)) * (s1 - s0);
-      if (insideTriangle(to, n, x))
+      if (insideTriangle(to, n, x, margin))
       {
         best.offer(x, x);
         return true;
@@ -172,12 +179,12 @@ ClosestSoFar<W> triangleDistance(const Vec3<W> a[3], const Vec3<W> b[3], W stop)
     if (b_has_area)
     {
       const Vec3<W> y = aboveInterior(a[i], b, nb);
-      if (insideTriangle(b, nb, y)) best.offer(a[i], y);
+      if (insideTriangle(b, nb, y, margin)) best.offer(a[i], y);
     }
     if (a_has_area)
     {
       const Vec3<W> y = aboveInterior(b[i], a, na);
-      if (insideTriangle(a, na, y)) best.offer(y, b[i]);
+      if (insideTriangle(a, na, y, margin)) best.offer(y, b[i]);
     }
   }
   return best;
