@@ -528,7 +528,10 @@ TYPED_TEST(CollideMeshMesh, ZeroAreaTrianglesFarFromOriginMatchOBBTree)
   REQUIRE_ASSIMP(spider, S, "STL/Spider_binary.stl", S(1));
   REQUIRE_ASSIMP(wuson, S, "OFF/Wuson.off", S(2));
   const std::string what = "collide/vs-obb/spider-wuson-far/" + scalarName<S>();
-  checkAgainstOBB(what, spider, wuson, nearbyPoseList(what, spider, wuson, S(0.5), S(5e4), 200));
+  // In float the leaf test's bound is about 0.4 there (32 eps |t|): thousands of pairs per pose are within it, and
+  // the brute force and the contract check each of them; the sanitizer build checks a quarter of the poses.
+  const int poses = fcl_rs::test::kSanitized ? 50 : 200;
+  checkAgainstOBB(what, spider, wuson, nearbyPoseList(what, spider, wuson, S(0.5), S(5e4), poses));
 }
 
 // ---------------------------------------------------------------------------------------------------------------
