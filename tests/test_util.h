@@ -432,6 +432,26 @@ std::string leafContractViolations(const TriangleMesh<S>& a, const fcl::Transfor
   return o.str();
 }
 
+/// A tree query's pairs against bruteForcePairs under the overlap test's guarantee (docs/robustness.md): the tree
+/// reports no pair the brute force does not, and every brute-force pair that exactly intersects. A pair the leaf
+/// test would report within its tolerance but that is exactly apart may be culled by a bounding volume, whose
+/// padding covers rounding, not the leaf test's tolerance; whether such a pair survives depends on the last bits of
+/// R and T, so it differs between compilers. Returns the violations, or "".
+template <typename S>
+std::string treeContractViolations(const TriangleMesh<S>& a, const fcl::Transform3<S>& tf1, const TriangleMesh<S>& b,
+                                   const fcl::Transform3<S>& tf2, const TrianglePairs& tree, const TrianglePairs& brute)
+{
+  if (tree == brute) return "";
+  std::ostringstream o;
+  for (const auto& [i, j] : tree)
+    if (!brute.count({i, j})) o << " (" << i << ',' << j << ") reported, not by the brute force;";
+  const auto wa = worldTriangles(a, tf1), wb = worldTriangles(b, tf2);
+  for (const auto& [i, j] : brute)
+    if (!tree.count({i, j}) && exactlyIntersect(wa[i], wb[j]))
+      o << " (" << i << ',' << j << ") intersects exactly, the tree lost it;";
+  return o.str();
+}
+
 /// Path under ../shared/data, or empty when that folder is absent (see FCL_RS_MISSING_SHARED_DATA).
 inline std::string sharedData(const std::string& relative)
 {
