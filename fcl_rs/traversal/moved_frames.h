@@ -3,11 +3,11 @@
 #define FCL_RS_MOVED_FRAMES_H
 
 #include <cstddef>
-#include <memory>
 
 #include <fcl/geometry/bvh/BVH_model.h>
 
 #include "fcl_rs/bv/rs.h"
+#include "fcl_rs/traversal/per_query_table.h"
 
 namespace fcl_rs {
 
@@ -15,26 +15,19 @@ namespace detail {
 
 /// The frames of a model's nodes moved by (R, T) (MovedFrame), each computed when a traversal first asks for it:
 /// a node meets several nodes of the other tree, and moving its frame is about a third of a boxed overlap test.
-/// R and T must outlive the cache; world_offsets as MovedFrame's.
+/// R and T must outlive the cache; world_offsets as MovedFrame's. One cache per query (PerQueryTable).
 template <typename S>
 class MovedFrames
 {
 public:
   MovedFrames(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const fcl::BVHModel<RS<S>>& model,
               S world_offsets = 0)
-    : R_(R), T_(T), world_offsets_(world_offsets), model_(model),
-      frames_(new MovedFrame<S>[std::size_t(model.getNumBVs())]), known_(new bool[std::size_t(model.getNumBVs())]())
+    : R_(R), T_(T), world_offsets_(world_offsets), model_(model), frames_(std::size_t(model.getNumBVs()))
   {
   }
   const MovedFrame<S>& operator()(int b)
   {
-    const std::size_t i = std::size_t(b);
-    if (!known_[i])
-    {
-      frames_[i] = MovedFrame<S>(R_, T_, model_.getBV(b).bv, world_offsets_);
-      known_[i] = true;
-    }
-    return frames_[i];
+    return frames_.get(std::size_t(b), [&] { return MovedFrame<S>(R_, T_, model_.getBV(b).bv, world_offsets_); });
   }
 
 private:
@@ -42,8 +35,7 @@ private:
   const fcl::Vector3<S>& T_;
   S world_offsets_;
   const fcl::BVHModel<RS<S>>& model_;
-  std::unique_ptr<MovedFrame<S>[]> frames_;  // uninitialised until known_
-  std::unique_ptr<bool[]> known_;
+  PerQueryTable<MovedFrame<S>> frames_;
 };
 
 }  // namespace detail
