@@ -2,6 +2,7 @@
 #ifndef FCL_RS_TRAVERSAL_H
 #define FCL_RS_TRAVERSAL_H
 
+#include <cstddef>
 #include <utility>
 #include <vector>
 
@@ -62,11 +63,19 @@ bool initialize(MeshCollisionTraversalNodeRS<S>& node, const fcl::BVHModel<RS<S>
   return fcl::detail::setupMeshCollisionOrientedNode(node, model1, tf1, model2, tf2, request, result);
 }
 
-/// Runs the mesh-mesh traversal of node: FCL's depth-first order (split the larger node, left child
-/// first, stop once the request is satisfied) on an explicit stack with direct calls. FCL's generic
-/// recursion makes five virtual calls per visited pair, which costs about as much as an RS test.
+/// Requests for at most this many contacts descend into the nearer child first (collideTrees).
+constexpr std::size_t kNearerFirstMaxContacts = 16;
+
+/// Runs the mesh-mesh traversal of node: FCL's depth-first order (split the larger node, stop once the
+/// request is satisfied) on an explicit stack with direct calls. FCL's generic recursion makes five virtual
+/// calls per visited pair, which costs about as much as an RS test.
 /// A node of model2 usually meets several nodes of model1, so its frame is moved into model1's coordinates
 /// once per query (MovedFrames), not once per test.
+/// Child order: FCL's (left first) unless the request stops after a few contacts; then the child whose origin
+/// (the mean of its points) is nearer the other node's goes first. Contacts cluster where the meshes
+/// interpenetrate, so that reaches the first one with 13-59 % fewer BV tests on the benchmark pairs
+/// (docs/kernel.md); an exhaustive request visits every overlapping pair in any order, and ordering would cost
+/// it about 3 %.
 template <typename S>
 void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
 {
@@ -76,6 +85,7 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
   std::vector<std::pair<int, int>> stack;
   stack.reserve(128);
   stack.emplace_back(0, 0);
+  const bool nearer_first = !node.request.enable_cost && node.request.num_max_contacts <= kNearerFirstMaxContacts;
   while (!stack.empty())
   {
     const auto [b1, b2] = stack.back();
@@ -91,13 +101,27 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
     }
     else if (leaf2 || (!leaf1 && n1.bv.size() > n2.bv.size()))
     {
-      stack.emplace_back(n1.rightChild(), b2);
-      stack.emplace_back(n1.leftChild(), b2);
+      int near = n1.leftChild(), far = n1.rightChild();
+      if (nearer_first)
+      {
+        const fcl::Vector3<S>& c2 = moved(b2).origin;
+        if ((model1.getBV(far).bv.origin - c2).squaredNorm() < (model1.getBV(near).bv.origin - c2).squaredNorm())
+          std::swap(near, far);
+      }
+      stack.emplace_back(far, b2);
+      stack.emplace_back(near, b2);
     }
     else
     {
-      stack.emplace_back(b1, n2.rightChild());
-      stack.emplace_back(b1, n2.leftChild());
+      int near = n2.leftChild(), far = n2.rightChild();
+      if (nearer_first)
+      {
+        const fcl::Vector3<S>& c1 = n1.bv.origin;
+        if ((moved(far).origin - c1).squaredNorm() < (moved(near).origin - c1).squaredNorm())
+          std::swap(near, far);
+      }
+      stack.emplace_back(b1, far);
+      stack.emplace_back(b1, near);
     }
   }
 }
