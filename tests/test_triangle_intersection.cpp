@@ -400,6 +400,146 @@ TYPED_TEST(TriangleIntersection, DegeneratePairsByHand)
   EXPECT_TRUE(reported(V(S(0.5), -1, -1), V(S(0.5), 1, -1), V(S(0.5), 0, 1)));  // across an edge of it
 }
 
+// ---------------------------------------------------------------------------------------------------------------
+// The certificates that settle most pairs, against the full computation and the exact oracle
+
+/// A random triangle pair of one kind, size about `scale`, moved by `offset`: generic (apart, crossing, straddling),
+/// touching (B's vertex on a vertex, an edge or the face of A), crossing edges, shared edges and vertices (mesh
+/// neighbours), coplanar, degenerate (collinear, repeated vertex, point), slivers; the touching kinds then moved a
+/// few ulps along a random direction, so signs and gaps sit at the certificates' bounds.
+template <typename S, typename Rng>
+void certificatePair(Rng& rng, int kind, double scale, double offset, fcl::Vector3<S> p[3], fcl::Vector3<S> q[3])
+{
+  using V = Eigen::Vector3d;
+  std::uniform_real_distribution<double> unit(-1, 1), share(0, 1);
+  const auto random = [&] { return V(unit(rng), unit(rng), unit(rng)); };
+  const auto onP = [&](const V a[3]) {  // a vertex, an edge point or an inner point of triangle a
+    const double u = share(rng), w = share(rng) * (1 - u);
+    switch (std::uniform_int_distribution<int>(0, 2)(rng))
+    {
+      case 0: return a[std::uniform_int_distribution<int>(0, 2)(rng)];
+      case 1: return V(a[0] + u * (a[1] - a[0]));
+      default: return V(a[0] + u * (a[1] - a[0]) + w * (a[2] - a[0]));
+    }
+  };
+  V a[3] = {random(), random(), random()}, b[3];
+  switch (kind)
+  {
+    case 0: for (auto& v : b) v = random() + 0.8 * random(); break;
+    case 1: b[0] = onP(a); b[1] = b[0] + random(); b[2] = b[0] + random(); break;
+    case 2:
+    {
+      const V x = a[0] + share(rng) * (a[1] - a[0]), d = random();
+      b[0] = x + d;
+      b[1] = x - share(rng) * d;
+      b[2] = x + random();
+      break;
+    }
+    case 3: b[0] = a[0]; b[1] = a[1]; b[2] = random(); break;
+    case 4: b[0] = a[std::uniform_int_distribution<int>(0, 2)(rng)]; b[1] = random(); b[2] = random(); break;
+    case 5:
+      for (auto& v : b) v = a[0] + 1.5 * unit(rng) * (a[1] - a[0]) + 1.5 * unit(rng) * (a[2] - a[0]);
+      break;
+    case 6:
+    {
+      for (auto& v : b) v = random() + 0.5 * random();
+      V* t = share(rng) < 0.5 ? a : b;
+      switch (std::uniform_int_distribution<int>(0, 2)(rng))
+      {
+        case 0: t[2] = t[0] + 2 * unit(rng) * (t[1] - t[0]); break;
+        case 1: t[2] = t[1]; break;
+        default: t[1] = t[2] = t[0]; break;
+      }
+      break;
+    }
+    default:
+      b[0] = random();
+      b[1] = random();
+      b[2] = (b[0] + b[1]) / 2 + 1e-9 * random();
+      if (share(rng) < 0.5) b[0] = onP(a);
+      break;
+  }
+  if (kind >= 1)
+  {
+    // A few ulps, or about the tolerance (192 eps times the largest coordinate), where the certificates' bounds lie.
+    const double ulps = share(rng) < 0.5 ? std::uniform_int_distribution<int>(-8, 8)(rng) : 400 * unit(rng);
+    const V nudge = random() * ulps * double(std::numeric_limits<S>::epsilon()) * (scale + offset);
+    for (auto& v : b) v += nudge;
+  }
+  const V o = V(0.6, -0.7, 0.39) * offset;
+  for (int i = 0; i < 3; ++i)
+  {
+    p[i] = (o + scale * a[i]).cast<S>();
+    q[i] = (o + scale * b[i]).cast<S>();
+  }
+}
+
+// Every pair the cheap certificates settle gets the verdict of the full computation (the distance in the wider
+// type, no shortcut), and the certificates are true: "apart" pairs are exactly farther than the tolerance,
+// "crossing" pairs exactly intersect. Random and near-degenerate pairs, sizes 2^-8 to 2^8, offsets to 1e6.
+TYPED_TEST(TriangleIntersection, CertificatesAgreeWithTheFullComputation)
+{
+  using S = TypeParam;
+  using W = typename fcl_rs::WiderScalar<S>::type;
+  using fcl_rs::detail::Certificate;
+  auto rng = fcl_rs::test::seededRng("TriangleIntersection.Certificates." + fcl_rs::test::scalarName<S>());
+  const int kKinds = 8, per_kind = fcl_rs::test::kSanitized ? 150 : 1500;
+  std::array<std::array<long, 3>, kKinds> counts{};
+  long disagreements = 0;
+  for (int kind = 0; kind < kKinds; ++kind)
+    for (int k = 0; k < per_kind; ++k)
+    {
+      const double scale = std::ldexp(1.0, std::uniform_int_distribution<int>(-8, 8)(rng));
+      const double offset = std::array<double, 4>{0, 1, 1e3, 1e6}[k % 4] * (std::is_same<S, float>::value ? 1e-2 : 1);
+      fcl::Vector3<S> p[3], q[3];
+      certificatePair<S>(rng, kind, scale, offset, p, q);
+      const S tolerance = fcl_rs::triangleTolerance<S>(p, q, fcl::Vector3<S>::Zero(), fcl::Vector3<S>::Zero(),
+                                                       fcl::Vector3<S>::Zero());
+      const S size = std::max(fcl_rs::largestCoordinate(p), fcl_rs::largestCoordinate(q));
+      const Certificate certificate =
+          fcl_rs::detail::certifyPair(p, q, tolerance + std::numeric_limits<S>::epsilon() * size);
+      ++counts[kind][int(certificate)];
+      fcl_rs::detail::Vec3<W> a[3], b[3];
+      for (int i = 0; i < 3; ++i)
+      {
+        a[i] = p[i].template cast<W>();
+        b[i] = q[i].template cast<W>();
+      }
+      const W stop = W(tolerance) * W(tolerance);
+      const bool full = fcl_rs::detail::triangleDistance(a, b, stop).sq_distance <= stop;
+      const bool verdict = fcl_rs::trianglesWithin(p, q, tolerance);
+      disagreements += verdict != full;
+      const ExactTriangle exact_p = {p[0].template cast<double>(), p[1].template cast<double>(),
+                                     p[2].template cast<double>()};
+      const ExactTriangle exact_q = {q[0].template cast<double>(), q[1].template cast<double>(),
+                                     q[2].template cast<double>()};
+      SCOPED_TRACE("kind " + std::to_string(kind) + " pair " + std::to_string(k));
+      EXPECT_EQ(verdict, full);
+      if (certificate == Certificate::kApart)
+      {
+        EXPECT_GT(fcl_rs::test::exactDistance(exact_p, exact_q), tolerance);
+      }
+      else if (certificate == Certificate::kCrossing)
+      {
+        EXPECT_TRUE(fcl_rs::test::exactlyIntersect(exact_p, exact_q));
+      }
+      if (::testing::Test::HasFailure()) return;
+    }
+  std::cout << "[certificates] " << fcl_rs::test::scalarName<S>() << ", per kind (none, apart, crossing):";
+  for (const auto& c : counts) std::cout << " (" << c[0] << ", " << c[1] << ", " << c[2] << ")";
+  std::cout << "; " << disagreements << " verdicts differ from the full computation\n";
+  // Every kind reaches the full computation and most get a certificate; apart and crossing both occur.
+  long apart = 0, crossing = 0;
+  for (const auto& c : counts)
+  {
+    apart += c[int(Certificate::kApart)];
+    crossing += c[int(Certificate::kCrossing)];
+  }
+  EXPECT_GT(apart, kKinds * per_kind / 8);
+  EXPECT_GT(crossing, kKinds * per_kind / 8);
+  EXPECT_GT(counts[1][int(Certificate::kNone)] + counts[5][int(Certificate::kNone)], per_kind / 10);
+}
+
 // Found by fuzz_triangle_intersection (fuzz/corpus/fuzz_triangle_intersection/sliver-tip-beyond): A a segment, B a
 // sliver (collinear in its own frame, 1e-14 wide after the move into A's frame) 0.007 from A at its tip, where
 // the sliver's edge signs are rounding noise; the distance must still not call them touching.

@@ -57,15 +57,21 @@ S leafTolerance(S size, const fcl::Vector3<S>& t1, const fcl::Vector3<S>& t2, co
   return 32 * std::numeric_limits<S>::epsilon() * scale;
 }
 
+/// The largest absolute coordinate of a triangle's vertices.
+template <typename S>
+S largestCoordinate(const fcl::Vector3<S> v[3])
+{
+  S size = 0;
+  for (int i = 0; i < 3; ++i) size = std::max({size, std::abs(v[i].x()), std::abs(v[i].y()), std::abs(v[i].z())});
+  return size;
+}
+
 /// The leaf test's tolerance for triangles p (A's frame) and q (B's frame).
 template <typename S>
 S triangleTolerance(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], const fcl::Vector3<S>& t1,
                     const fcl::Vector3<S>& t2, const fcl::Vector3<S>& T)
 {
-  S size = 0;
-  for (int i = 0; i < 3; ++i)
-    size = std::max({size, p[i].cwiseAbs().maxCoeff(), q[i].cwiseAbs().maxCoeff()});
-  return leafTolerance<S>(size, t1, t2, T);
+  return leafTolerance<S>(std::max(largestCoordinate(p), largestCoordinate(q)), t1, t2, T);
 }
 
 namespace detail {
@@ -226,11 +232,12 @@ bool separatedBeyond(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], S t
   return false;
 }
 
-/// Orientation determinants r . (v x w) with a certified sign: for fixed v, w (one cross product), any r. The
+/// Orientation determinants r . (v x w) with a certified error: for fixed v, w (one cross product), any r. The
 /// filter of Shewchuk's orient3d: to first order the computed value is within 8u perm of the exact one on the given
 /// coordinates (u = eps / 2; r, v, w are differences of given coordinates, and each difference, product and sum
-/// rounds once; perm = |r| . (|v_y w_z| + |v_z w_y|, ...)); the bound doubles that and adds underflow's absolute
-/// error. NaN or overflow give 0.
+/// rounds once; perm = |r| . (|v_y w_z| + |v_z w_y|, ...)); the bound doubles that, which also covers the rounding of
+/// the comparisons the certificates below make with it, and adds underflow's absolute error. NaN or overflow
+/// make every certificate fail.
 template <typename S>
 struct CertainOrientation
 {
@@ -240,38 +247,116 @@ struct CertainOrientation
             std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()))
   {
   }
-  /// The sign of r . (v x w) if certain, else 0.
-  int sign(const fcl::Vector3<S>& r) const
+  /// r . (v x w) as computed.
+  S value(const fcl::Vector3<S>& r) const { return r.dot(m); }
+  /// A bound on the difference of value(r) and the exact r . (v x w).
+  S error(const fcl::Vector3<S>& r) const
   {
-    const S det = r.dot(m);
-    const S bound = 8 * std::numeric_limits<S>::epsilon() * r.cwiseAbs().dot(m_abs) +
-                    32 * std::numeric_limits<S>::denorm_min();
-    return det > bound ? 1 : det < -bound ? -1 : 0;
+    return 8 * std::numeric_limits<S>::epsilon() * r.cwiseAbs().dot(m_abs) + 32 * std::numeric_limits<S>::denorm_min();
+  }
+  /// An upper bound on the length of the exact v x w: |m|_1 (at least the 2-norm) plus m's rounding (each
+  /// component within 4u of its permanent to first order, doubled).
+  S lengthBound() const
+  {
+    return m.template lpNorm<1>() + 4 * std::numeric_limits<S>::epsilon() * m_abs.sum() +
+           96 * std::numeric_limits<S>::denorm_min();
   }
   fcl::Vector3<S> m, m_abs;
 };
 
-/// Whether an edge of `from` certainly crosses the interior of triangle `to`: its ends strictly on either side of
-/// to's plane and its line strictly inside to's three edges, every sign certain (CertainOrientation), so the given
-/// triangles intersect exactly. Says nothing on touching, coplanar or degenerate pairs.
+/// The three vertices v of one triangle against the plane of the other, through its vertex o with normal
+/// n = CertainOrientation's v x w: (v_i - o) . n as computed, their errors, and which are certainly above
+/// (bit i of `above`) or below.
 template <typename S>
-bool edgeCertainlyThrough(const fcl::Vector3<S> from[3], const fcl::Vector3<S> to[3])
+struct PlaneSides
 {
-  const CertainOrientation<S> plane(to[1] - to[0], to[2] - to[0]);
-  int side[3];
-  for (int i = 0; i < 3; ++i) side[i] = plane.sign(from[i] - to[0]);
-  for (int i = 0; i < 3; ++i)
+  PlaneSides(const CertainOrientation<S>& n, const fcl::Vector3<S> v[3], const fcl::Vector3<S>& o)
   {
-    const int j = (i + 1) % 3;
-    if (side[i] * side[j] >= 0) continue;
-    // The line's side of each edge of `to`: u . (w_k x w_k+1), the three with one sign.
-    const fcl::Vector3<S> u = from[j] - from[i], w[3] = {to[0] - from[i], to[1] - from[i], to[2] - from[i]};
-    const int turn = CertainOrientation<S>(w[0], w[1]).sign(u);
-    if (turn != 0 && CertainOrientation<S>(w[1], w[2]).sign(u) == turn &&
-        CertainOrientation<S>(w[2], w[0]).sign(u) == turn)
-      return true;
+    for (int i = 0; i < 3; ++i)
+    {
+      const fcl::Vector3<S> r = v[i] - o;
+      value[i] = n.value(r);
+      error[i] = n.error(r);
+      above |= int(value[i] > error[i]) << i;
+      below |= int(value[i] < -error[i]) << i;
+    }
   }
-  return false;
+  /// Whether the vertices are all certainly farther than reach (times |n|) on one side: the plane separates them.
+  bool beyond(S reach) const
+  {
+    if (above == 7) return value[0] - error[0] > reach && value[1] - error[1] > reach && value[2] - error[2] > reach;
+    return below == 7 && value[0] + error[0] < -reach && value[1] + error[1] < -reach && value[2] + error[2] < -reach;
+  }
+  /// Whether the plane certainly has one vertex on one side and two on the other.
+  bool straddled() const { return (above | below) == 7 && above != 0 && below != 0; }
+  S value[3], error[3];
+  int above = 0, below = 0;
+};
+
+enum class Certificate
+{
+  kNone,      ///< neither proved
+  kApart,     ///< the exact distance exceeds the reach
+  kCrossing,  ///< the triangles intersect exactly
+};
+
+/// A cheap certified verdict on p and q: apart (exact distance above slack) or crossing (an exact intersection),
+/// else kNone, every sign and gap counted with its rounding (CertainOrientation).
+///
+/// First each plane: q's vertices all farther than slack on one side of p's plane, or p's of q's, prove the pair
+/// apart. Otherwise, where both triangles certainly straddle the other's plane (vertex a of p alone on side s_a of
+/// q's plane, x of q alone on side s_x of p's), each crosses the planes' common line L in a segment, p's from its
+/// edge a-u to edge a-u', q's from x-v to x-v', and the triangles intersect iff the segments overlap (the test of
+/// Guigue and Devillers, 2003). Where edge a-u meets L at C and x-v at A, the triple product
+/// g = (x - a) . ((u - a) x (v - x)) = ((u - a) x (v - x)) . (A - C) (moving x along its edge to A and a along
+/// its edge to C changes nothing), A - C lies along L's direction d = n_p x n_q, and
+/// ((u - a) x (v - x)) . d = -((u - a) . n_q) ((v - x) . n_p) has the sign -s_a s_x: so A comes after C along d
+/// iff s_a s_x g < 0. Likewise (u - a) x (u' - a) = n_p orders p's ends: with (a, b, c) a cyclic order of p's
+/// vertices, p's segment runs from its b edge to its c edge against d where s_a > 0 (along it where s_a < 0), and
+/// q's, with (x, y, z) cyclic, from its y edge to its z edge along d where s_x > 0. The segments overlap iff p's
+/// start is not after q's end and q's start not after p's end: two triple products, both with a certain sign
+/// proving the crossing. One certainly of the wrong sign means the segments are apart along L, and
+/// (u - a) x (v - x) is the axis that separates the triangles: its gap (both triangles' vertices projected, each
+/// value certified) beyond slack proves them apart. Any other configuration (touching, coplanar, degenerate, an
+/// uncertain sign) gets kNone.
+template <typename S>
+Certificate certifyPair(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], S slack)
+{
+  const CertainOrientation<S> normal_p(p[1] - p[0], p[2] - p[0]);
+  const PlaneSides<S> q_sides(normal_p, q, p[0]);
+  if (!q_sides.straddled())
+    return q_sides.beyond(slack * normal_p.lengthBound()) ? Certificate::kApart : Certificate::kNone;
+  const CertainOrientation<S> normal_q(q[1] - q[0], q[2] - q[0]);
+  const PlaneSides<S> p_sides(normal_q, p, q[0]);
+  if (!p_sides.straddled())
+    return p_sides.beyond(slack * normal_q.lengthBound()) ? Certificate::kApart : Certificate::kNone;
+  // The lone vertex of a straddled triangle: the single bit of `above` or of `below`.
+  static constexpr int kSingleBit[8] = {-1, 0, 1, -1, 2, -1, -1, -1}, kNext[3] = {1, 2, 0}, kLast[3] = {2, 0, 1};
+  const int s_a = kSingleBit[p_sides.above] >= 0 ? 1 : -1, s_x = kSingleBit[q_sides.above] >= 0 ? 1 : -1;
+  const int a = kSingleBit[s_a > 0 ? p_sides.above : p_sides.below];
+  const int x = kSingleBit[s_x > 0 ? q_sides.above : q_sides.below];
+  const int p_start = s_a > 0 ? kLast[a] : kNext[a], p_end = s_a > 0 ? kNext[a] : kLast[a];
+  const int q_start = s_x > 0 ? kNext[x] : kLast[x], q_end = s_x > 0 ? kLast[x] : kNext[x];
+  const fcl::Vector3<S> r = q[x] - p[a];
+  // Whether edge a-u meets L certainly on the `wanted` side (sign of g) of edge x-v, as overlapping segments
+  // need; if certainly on the other, whether axis (u - a) x (v - x) separates the triangles beyond slack.
+  const auto ends = [&](int u, int v, int wanted) {
+    const CertainOrientation<S> axis(p[u] - p[a], q[v] - q[x]);
+    const S g = axis.value(r), g_error = axis.error(r);
+    if (wanted * g > g_error) return Certificate::kCrossing;
+    if (!(wanted * g < -g_error)) return Certificate::kNone;
+    // Projections relative to a, on q's side (-wanted): a and u at 0 exactly, x and v at g, the others.
+    const fcl::Vector3<S> to_p = p[3 - a - u] - p[a], to_q = q[3 - x - v] - p[a];
+    const S p_high = -wanted * axis.value(to_p) + axis.error(to_p);
+    const S q_low[2] = {-wanted * g - g_error, -wanted * axis.value(to_q) - axis.error(to_q)};
+    const S reach = slack * axis.lengthBound();
+    const bool apart = q_low[0] > reach && q_low[1] > reach && q_low[0] - p_high > reach && q_low[1] - p_high > reach;
+    return apart ? Certificate::kApart : Certificate::kNone;
+  };
+  // p's start not after q's end: s_a s_x g < 0 on (p_start, q_end); q's start not after p's end: > 0.
+  const Certificate starts = ends(p_start, q_end, -s_a * s_x);
+  if (starts != Certificate::kCrossing) return starts;
+  return ends(p_end, q_start, s_a * s_x);
 }
 
 }  // namespace detail
@@ -297,14 +382,31 @@ TriangleProximity<S> triangleProximity(const fcl::Vector3<S> p[3], const fcl::Ve
   return out;
 }
 
+namespace detail {
+
+/// trianglesWithin with size, the largest absolute coordinate of p and q_in_a, given.
+template <typename S>
+bool trianglesWithin(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q_in_a[3], S tolerance, S size)
+{
+  // A gap of eps size beyond the tolerance puts the distance computed in the wider type above the tolerance too.
+  switch (certifyPair(p, q_in_a, tolerance + std::numeric_limits<S>::epsilon() * size))
+  {
+    case Certificate::kApart: return false;
+    case Certificate::kCrossing: return true;
+    default: return triangleProximity(p, q_in_a, tolerance).reported;
+  }
+}
+
+}  // namespace detail
+
 /// The leaf test's verdict on p and q_in_a: reported iff their distance computed by triangleProximity is at most
-/// tolerance. A pair with an edge certainly through the other's interior (most intersecting pairs) is reported
-/// without it: it intersects exactly, so that distance is zero up to the wider type's rounding.
+/// tolerance. Most pairs are settled without it by detail::certifyPair: a pair it proves exactly intersecting has
+/// that distance zero up to the wider type's rounding, one it proves apart by more than tolerance plus eps times
+/// the largest coordinate has it above tolerance.
 template <typename S>
 bool trianglesWithin(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q_in_a[3], S tolerance)
 {
-  return detail::edgeCertainlyThrough(p, q_in_a) || detail::edgeCertainlyThrough(q_in_a, p) ||
-         triangleProximity(p, q_in_a, tolerance).reported;
+  return detail::trianglesWithin(p, q_in_a, tolerance, std::max(largestCoordinate(p), largestCoordinate(q_in_a)));
 }
 
 /// The leaf predicate exactly as the RS traversal runs it on triangle p of A and q of B (model coordinates):
@@ -316,8 +418,9 @@ bool leafReports(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], const f
                  fcl::Vector3<S> q_in_a[3], S& tolerance)
 {
   for (int i = 0; i < 3; ++i) q_in_a[i] = R * q[i] + T;
-  tolerance = triangleTolerance<S>(p, q, t1, t2, T);
-  return trianglesWithin(p, q_in_a, tolerance);
+  const S size_p = largestCoordinate(p);
+  tolerance = leafTolerance<S>(std::max(size_p, largestCoordinate(q)), t1, t2, T);
+  return detail::trianglesWithin(p, q_in_a, tolerance, std::max(size_p, largestCoordinate(q_in_a)));
 }
 
 /// A contact for a reported pair where FCL's contact routine is undefined (a zero-area triangle: FCL reads an
