@@ -61,9 +61,8 @@ S leafTolerance(S size, const fcl::Vector3<S>& t1, const fcl::Vector3<S>& t2, co
 template <typename S>
 S largestCoordinate(const fcl::Vector3<S> v[3])
 {
-  S size = 0;
-  for (int i = 0; i < 3; ++i) size = std::max({size, std::abs(v[i].x()), std::abs(v[i].y()), std::abs(v[i].z())});
-  return size;
+  static_assert(sizeof(fcl::Vector3<S>) == 3 * sizeof(S), "three vertices are nine consecutive coordinates");
+  return Eigen::Map<const Eigen::Array<S, 9, 1>>(v[0].data()).abs().maxCoeff();
 }
 
 /// The leaf test's tolerance for triangles p (A's frame) and q (B's frame).
@@ -232,82 +231,81 @@ bool separatedBeyond(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], S t
   return false;
 }
 
-/// Orientation determinants r . (v x w) with a certified error: for fixed v, w (one cross product), any r. The
-/// filter of Shewchuk's orient3d: to first order the computed value is within 8u perm of the exact one on the given
-/// coordinates (u = eps / 2; r, v, w are differences of given coordinates, and each difference, product and sum
-/// rounds once; perm = |r| . (|v_y w_z| + |v_z w_y|, ...)); the bound doubles that, which also covers the rounding of
-/// the comparisons the certificates below make with it, and adds underflow's absolute error. NaN or overflow
-/// make every certificate fail.
+/// Triple products r . (v x w) of differences of the given coordinates, with the rounding bounded once per pair (a
+/// static filter): with r's coordinates at most `reach` in magnitude, v's at most a and w's at most b, the computed
+/// cross product is within 8u a b of the exact one per component (u = eps / 2: each difference, product and sum
+/// rounds once) and the computed triple product within 48u reach a b (to first order). The bounds below double
+/// that, which also covers the rounding of the bounds and of the comparisons the certificates make with them, and
+/// add underflow's absolute error. NaN and overflow make every certificate fail (its comparisons are false).
 template <typename S>
-struct CertainOrientation
+struct CertainAxis
 {
-  CertainOrientation(const fcl::Vector3<S>& v, const fcl::Vector3<S>& w)
-    : m(v.cross(w)),
-      m_abs(std::abs(v.y() * w.z()) + std::abs(v.z() * w.y()), std::abs(v.z() * w.x()) + std::abs(v.x() * w.z()),
-            std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()))
+  CertainAxis(const fcl::Vector3<S>& v, const fcl::Vector3<S>& w, S reach, S a, S b)
+    : m(v.cross(w)), ab(a * b),
+      error(48 * std::numeric_limits<S>::epsilon() * reach * ab + 8 * (reach + 1) * std::numeric_limits<S>::denorm_min())
   {
   }
-  /// r . (v x w) as computed.
+  /// r . (v x w) as computed, within `error` of the exact value.
   S value(const fcl::Vector3<S>& r) const { return r.dot(m); }
-  /// A bound on the difference of value(r) and the exact r . (v x w).
-  S error(const fcl::Vector3<S>& r) const
+  /// An upper bound on |v x w| (exact): |m|_1 plus its rounding.
+  S length() const
   {
-    return 8 * std::numeric_limits<S>::epsilon() * r.cwiseAbs().dot(m_abs) + 32 * std::numeric_limits<S>::denorm_min();
+    return m.template lpNorm<1>() + 24 * std::numeric_limits<S>::epsilon() * ab + 6 * std::numeric_limits<S>::denorm_min();
   }
-  /// An upper bound on the length of the exact v x w: |m|_1 (at least the 2-norm) plus m's rounding (each
-  /// component within 4u of its permanent to first order, doubled).
-  S lengthBound() const
-  {
-    return m.template lpNorm<1>() + 4 * std::numeric_limits<S>::epsilon() * m_abs.sum() +
-           96 * std::numeric_limits<S>::denorm_min();
-  }
-  fcl::Vector3<S> m, m_abs;
+  fcl::Vector3<S> m;
+  S ab;
+  S error;  ///< bound on the error of value(r) for any difference r within the reach
 };
 
-/// The three vertices v of one triangle against the plane of the other, through its vertex o with normal
-/// n = CertainOrientation's v x w: (v_i - o) . n as computed, their errors, and which are certainly above
-/// (bit i of `above`) or below.
+/// The vertices v of one triangle against the plane through o (a vertex of the other) with normal n: the
+/// computed (v_i - o) . n.
 template <typename S>
 struct PlaneSides
 {
-  PlaneSides(const CertainOrientation<S>& n, const fcl::Vector3<S> v[3], const fcl::Vector3<S>& o)
+  PlaneSides(const CertainAxis<S>& n, const fcl::Vector3<S> v[3], const fcl::Vector3<S>& o)
+    : value{n.value(v[0] - o), n.value(v[1] - o), n.value(v[2] - o)}, error(n.error)
   {
-    for (int i = 0; i < 3; ++i)
-    {
-      const fcl::Vector3<S> r = v[i] - o;
-      value[i] = n.value(r);
-      error[i] = n.error(r);
-      above |= int(value[i] > error[i]) << i;
-      below |= int(value[i] < -error[i]) << i;
-    }
   }
-  /// Whether the vertices are all certainly farther than reach (times |n|) on one side: the plane separates them.
-  bool beyond(S reach) const
+  /// Whether the values all exceed margin on one side (margin covering their error: the plane separates the
+  /// triangles by more than margin - error, times |n|).
+  bool beyond(S margin) const
   {
-    if (above == 7) return value[0] - error[0] > reach && value[1] - error[1] > reach && value[2] - error[2] > reach;
-    return below == 7 && value[0] + error[0] < -reach && value[1] + error[1] < -reach && value[2] + error[2] < -reach;
+    return (value[0] > margin && value[1] > margin && value[2] > margin) ||
+           (value[0] < -margin && value[1] < -margin && value[2] < -margin);
   }
   /// Whether the plane certainly has one vertex on one side and two on the other.
-  bool straddled() const { return (above | below) == 7 && above != 0 && below != 0; }
-  S value[3], error[3];
-  int above = 0, below = 0;
+  bool straddled() const
+  {
+    const bool above = value[0] > 0;
+    return std::abs(value[0]) > error && std::abs(value[1]) > error && std::abs(value[2]) > error &&
+           !(above == (value[1] > 0) && above == (value[2] > 0));
+  }
+  /// The vertex alone on its side of a straddled plane.
+  int lone() const
+  {
+    const bool above = value[0] > 0;
+    return above == (value[1] > 0) ? 2 : above == (value[2] > 0) ? 1 : 0;
+  }
+  S value[3];
+  S error;
 };
 
 enum class Certificate
 {
   kNone,      ///< neither proved
-  kApart,     ///< the exact distance exceeds the reach
+  kApart,     ///< the exact distance exceeds the tolerance plus eps times the largest coordinate
   kCrossing,  ///< the triangles intersect exactly
 };
 
-/// A cheap certified verdict on p and q: apart (exact distance above slack) or crossing (an exact intersection),
-/// else kNone, every sign and gap counted with its rounding (CertainOrientation).
+/// A cheap certified verdict on p and q: apart or crossing (see Certificate), else kNone, every sign and gap
+/// counted with its rounding (CertainAxis). A gap of eps times the largest coordinate beyond the tolerance puts
+/// the distance computed in the wider type above the tolerance too.
 ///
-/// First each plane: q's vertices all farther than slack on one side of p's plane, or p's of q's, prove the pair
-/// apart. Otherwise, where both triangles certainly straddle the other's plane (vertex a of p alone on side s_a of
-/// q's plane, x of q alone on side s_x of p's), each crosses the planes' common line L in a segment, p's from its
-/// edge a-u to edge a-u', q's from x-v to x-v', and the triangles intersect iff the segments overlap (the test of
-/// Guigue and Devillers, 2003). Where edge a-u meets L at C and x-v at A, the triple product
+/// First each plane: q's vertices all farther than the tolerance on one side of p's plane, or p's of q's, prove
+/// the pair apart. Otherwise, where both triangles certainly straddle the other's plane (vertex a of p alone on side
+/// s_a of q's plane, x of q alone on side s_x of p's), each crosses the planes' common line L in a segment, p's from
+/// its edge a-u to edge a-u', q's from x-v to x-v', and the triangles intersect iff the segments overlap (the test
+/// of Guigue and Devillers, 2003). Where edge a-u meets L at C and x-v at A, the triple product
 /// g = (x - a) . ((u - a) x (v - x)) = ((u - a) x (v - x)) . (A - C) (moving x along its edge to A and a along
 /// its edge to C changes nothing), A - C lies along L's direction d = n_p x n_q, and
 /// ((u - a) x (v - x)) . d = -((u - a) . n_q) ((v - x) . n_p) has the sign -s_a s_x: so A comes after C along d
@@ -317,46 +315,50 @@ enum class Certificate
 /// start is not after q's end and q's start not after p's end: two triple products, both with a certain sign
 /// proving the crossing. One certainly of the wrong sign means the segments are apart along L, and
 /// (u - a) x (v - x) is the axis that separates the triangles: its gap (both triangles' vertices projected, each
-/// value certified) beyond slack proves them apart. Any other configuration (touching, coplanar, degenerate, an
-/// uncertain sign) gets kNone.
+/// value certified) beyond the tolerance proves them apart. Any other configuration (touching, coplanar,
+/// degenerate, an uncertain sign) gets kNone.
 template <typename S>
-Certificate certifyPair(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], S slack)
+Certificate certifyPair(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], S tolerance)
 {
-  const CertainOrientation<S> normal_p(p[1] - p[0], p[2] - p[0]);
+  // Magnitudes: every edge of p within 2 e_max per coordinate (e_2 = e_1 - e_0), of q within 2 f_max, every
+  // difference of a vertex of q and one of p within reach, every coordinate within |p_0| + reach.
+  const fcl::Vector3<S> e[2] = {p[1] - p[0], p[2] - p[0]}, f[2] = {q[1] - q[0], q[2] - q[0]}, d = q[0] - p[0];
+  const S e_max = e[0].cwiseAbs().cwiseMax(e[1].cwiseAbs()).maxCoeff();
+  const S f_max = f[0].cwiseAbs().cwiseMax(f[1].cwiseAbs()).maxCoeff();
+  const S reach = d.cwiseAbs().maxCoeff() + 2 * (e_max + f_max);
+  const S slack = tolerance + std::numeric_limits<S>::epsilon() * (p[0].cwiseAbs().maxCoeff() + reach);
+
+  const CertainAxis<S> normal_p(e[0], e[1], reach, e_max, e_max);
   const PlaneSides<S> q_sides(normal_p, q, p[0]);
   if (!q_sides.straddled())
-    return q_sides.beyond(slack * normal_p.lengthBound()) ? Certificate::kApart : Certificate::kNone;
-  const CertainOrientation<S> normal_q(q[1] - q[0], q[2] - q[0]);
+    return q_sides.beyond(slack * normal_p.length() + normal_p.error) ? Certificate::kApart : Certificate::kNone;
+  const CertainAxis<S> normal_q(f[0], f[1], reach, f_max, f_max);
   const PlaneSides<S> p_sides(normal_q, p, q[0]);
   if (!p_sides.straddled())
-    return p_sides.beyond(slack * normal_q.lengthBound()) ? Certificate::kApart : Certificate::kNone;
-  // The lone vertex of a straddled triangle: the single bit of `above` or of `below`.
-  static constexpr int kSingleBit[8] = {-1, 0, 1, -1, 2, -1, -1, -1}, kNext[3] = {1, 2, 0}, kLast[3] = {2, 0, 1};
-  const int s_a = kSingleBit[p_sides.above] >= 0 ? 1 : -1, s_x = kSingleBit[q_sides.above] >= 0 ? 1 : -1;
-  const int a = kSingleBit[s_a > 0 ? p_sides.above : p_sides.below];
-  const int x = kSingleBit[s_x > 0 ? q_sides.above : q_sides.below];
-  const int p_start = s_a > 0 ? kLast[a] : kNext[a], p_end = s_a > 0 ? kNext[a] : kLast[a];
-  const int q_start = s_x > 0 ? kNext[x] : kLast[x], q_end = s_x > 0 ? kLast[x] : kNext[x];
+    return p_sides.beyond(slack * normal_q.length() + normal_q.error) ? Certificate::kApart : Certificate::kNone;
+  static constexpr int kNext[3] = {1, 2, 0}, kLast[3] = {2, 0, 1};
+  const int a = p_sides.lone(), x = q_sides.lone();
+  const int s_a = p_sides.value[a] > 0 ? 1 : -1, s_x = q_sides.value[x] > 0 ? 1 : -1;
+  // p's start not after q's end: s_a s_x g < 0 on (u, v) = (p's start, q's end); q's start not after p's end:
+  // s_a s_x g > 0 on (p's end, q's start).
+  const int p_ends[2] = {s_a > 0 ? kLast[a] : kNext[a], s_a > 0 ? kNext[a] : kLast[a]};
+  const int q_ends[2] = {s_x > 0 ? kLast[x] : kNext[x], s_x > 0 ? kNext[x] : kLast[x]};
   const fcl::Vector3<S> r = q[x] - p[a];
-  // Whether edge a-u meets L certainly on the `wanted` side (sign of g) of edge x-v, as overlapping segments
-  // need; if certainly on the other, whether axis (u - a) x (v - x) separates the triangles beyond slack.
-  const auto ends = [&](int u, int v, int wanted) {
-    const CertainOrientation<S> axis(p[u] - p[a], q[v] - q[x]);
-    const S g = axis.value(r), g_error = axis.error(r);
-    if (wanted * g > g_error) return Certificate::kCrossing;
-    if (!(wanted * g < -g_error)) return Certificate::kNone;
-    // Projections relative to a, on q's side (-wanted): a and u at 0 exactly, x and v at g, the others.
-    const fcl::Vector3<S> to_p = p[3 - a - u] - p[a], to_q = q[3 - x - v] - p[a];
-    const S p_high = -wanted * axis.value(to_p) + axis.error(to_p);
-    const S q_low[2] = {-wanted * g - g_error, -wanted * axis.value(to_q) - axis.error(to_q)};
-    const S reach = slack * axis.lengthBound();
-    const bool apart = q_low[0] > reach && q_low[1] > reach && q_low[0] - p_high > reach && q_low[1] - p_high > reach;
+  for (int k = 0; k < 2; ++k)
+  {
+    const int u = p_ends[k], v = q_ends[k], wanted = k == 0 ? -s_a * s_x : s_a * s_x;
+    const CertainAxis<S> axis(p[u] - p[a], q[v] - q[x], reach, 2 * e_max, 2 * f_max);
+    const S g = wanted * axis.value(r);
+    if (g > axis.error) continue;  // this end overlaps
+    if (!(g < -axis.error)) return Certificate::kNone;
+    // Apart along L: projections on the axis relative to a, on q's side (-wanted): a and u at 0 exactly, x and v
+    // at -g, the other two vertices.
+    const S p_other = -wanted * axis.value(p[3 - a - u] - p[a]), q_other = -wanted * axis.value(q[3 - x - v] - p[a]);
+    const S gap = slack * axis.length() + 2 * axis.error;
+    const bool apart = -g > gap && q_other > gap && -g - p_other > gap && q_other - p_other > gap;
     return apart ? Certificate::kApart : Certificate::kNone;
-  };
-  // p's start not after q's end: s_a s_x g < 0 on (p_start, q_end); q's start not after p's end: > 0.
-  const Certificate starts = ends(p_start, q_end, -s_a * s_x);
-  if (starts != Certificate::kCrossing) return starts;
-  return ends(p_end, q_start, s_a * s_x);
+  }
+  return Certificate::kCrossing;
 }
 
 }  // namespace detail
@@ -382,31 +384,18 @@ TriangleProximity<S> triangleProximity(const fcl::Vector3<S> p[3], const fcl::Ve
   return out;
 }
 
-namespace detail {
-
-/// trianglesWithin with size, the largest absolute coordinate of p and q_in_a, given.
-template <typename S>
-bool trianglesWithin(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q_in_a[3], S tolerance, S size)
-{
-  // A gap of eps size beyond the tolerance puts the distance computed in the wider type above the tolerance too.
-  switch (certifyPair(p, q_in_a, tolerance + std::numeric_limits<S>::epsilon() * size))
-  {
-    case Certificate::kApart: return false;
-    case Certificate::kCrossing: return true;
-    default: return triangleProximity(p, q_in_a, tolerance).reported;
-  }
-}
-
-}  // namespace detail
-
 /// The leaf test's verdict on p and q_in_a: reported iff their distance computed by triangleProximity is at most
 /// tolerance. Most pairs are settled without it by detail::certifyPair: a pair it proves exactly intersecting has
-/// that distance zero up to the wider type's rounding, one it proves apart by more than tolerance plus eps times
-/// the largest coordinate has it above tolerance.
+/// that distance zero up to the wider type's rounding, one it proves apart has it above tolerance.
 template <typename S>
 bool trianglesWithin(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q_in_a[3], S tolerance)
 {
-  return detail::trianglesWithin(p, q_in_a, tolerance, std::max(largestCoordinate(p), largestCoordinate(q_in_a)));
+  switch (detail::certifyPair(p, q_in_a, tolerance))
+  {
+    case detail::Certificate::kApart: return false;
+    case detail::Certificate::kCrossing: return true;
+    default: return triangleProximity(p, q_in_a, tolerance).reported;
+  }
 }
 
 /// The leaf predicate exactly as the RS traversal runs it on triangle p of A and q of B (model coordinates):
@@ -418,9 +407,8 @@ bool leafReports(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], const f
                  fcl::Vector3<S> q_in_a[3], S& tolerance)
 {
   for (int i = 0; i < 3; ++i) q_in_a[i] = R * q[i] + T;
-  const S size_p = largestCoordinate(p);
-  tolerance = leafTolerance<S>(std::max(size_p, largestCoordinate(q)), t1, t2, T);
-  return detail::trianglesWithin(p, q_in_a, tolerance, std::max(size_p, largestCoordinate(q_in_a)));
+  tolerance = triangleTolerance<S>(p, q, t1, t2, T);
+  return trianglesWithin(p, q_in_a, tolerance);
 }
 
 /// A contact for a reported pair where FCL's contact routine is undefined (a zero-area triangle: FCL reads an
