@@ -85,7 +85,7 @@ void check(FuzzedDataProvider& in)
   S tolerance;
   const bool reported = fcl_rs::leafReports<S>(p, q, R, T, tf1.translation(), tf2.translation(), q_in_a, tolerance);
   const fcl_rs::TriangleProximity<S> near = fcl_rs::triangleProximity(p, q_in_a, tolerance);
-  // The certified crossing that settles most pairs never reports one the distance computation would not.
+  // The certificates that settle most pairs never change the computed distance's verdict.
   if (reported != near.reported) violation("verdict differs from the computed distance's", double(tolerance));
 
   fcl_rs::test::ExactTriangle wa, wb;
