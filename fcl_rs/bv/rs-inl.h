@@ -307,6 +307,21 @@ struct SupportCorner
     at_c = Z * (ez - ex - ey) + Cxz * ex + Cyz * ey - 2 * c * std::min(ex, ey);
   }
   S max() const { return std::max(std::max(at_p, at_a), std::max(at_b, at_c)); }
+  /// The vertex attaining max(), in the volume's frame (extremeVertex).
+  fcl::Vector3<S> vertex() const
+  {
+    using V = fcl::Vector3<S>;
+    V v;
+    if (at_p >= std::max(std::max(at_a, at_b), at_c))
+      v = V(Px - a + b + c, Py + a - b - c, Pz - a - b - c);
+    else if (at_a >= at_b && at_a >= at_c)
+      v = ez <= ey ? V(X, Cxy - X, Cxz - X - 2 * a) : V(X, Cxy - X - 2 * a, Cxz - X);
+    else if (at_b >= at_c)
+      v = ez <= ex ? V(Cxy - Y, Y, Cyz - Y - 2 * b) : V(Cxy - Y - 2 * b, Y, Cyz - Y);
+    else
+      v = ey <= ex ? V(Cxz - Z, Cyz - Z - 2 * c, Z) : V(Cxz - Z - 2 * c, Cyz - Z, Z);
+    return V(nx ? -v[0] : v[0], ny ? -v[1] : v[1], nz ? -v[2] : v[2]);
+  }
 
   S ex, ey, ez;
   int nx, ny, nz;
@@ -512,18 +527,7 @@ struct PairFrame
 template <typename S>
 fcl::Vector3<S> extremeVertex(const RS<S>& b, const fcl::Vector3<S>& dir)
 {
-  using V = fcl::Vector3<S>;
-  const SupportCorner<S> s(b, dir);
-  V v;
-  if (s.at_p >= std::max(std::max(s.at_a, s.at_b), s.at_c))
-    v = V(s.Px - s.a + s.b + s.c, s.Py + s.a - s.b - s.c, s.Pz - s.a - s.b - s.c);
-  else if (s.at_a >= s.at_b && s.at_a >= s.at_c)
-    v = s.ez <= s.ey ? V(s.X, s.Cxy - s.X, s.Cxz - s.X - 2 * s.a) : V(s.X, s.Cxy - s.X - 2 * s.a, s.Cxz - s.X);
-  else if (s.at_b >= s.at_c)
-    v = s.ez <= s.ex ? V(s.Cxy - s.Y, s.Y, s.Cyz - s.Y - 2 * s.b) : V(s.Cxy - s.Y - 2 * s.b, s.Y, s.Cyz - s.Y);
-  else
-    v = s.ey <= s.ex ? V(s.Cxz - s.Z, s.Cyz - s.Z - 2 * s.c, s.Z) : V(s.Cxz - s.Z - 2 * s.c, s.Cyz - s.Z, s.Z);
-  return V(s.nx ? -v[0] : v[0], s.ny ? -v[1] : v[1], s.nz ? -v[2] : v[2]);
+  return SupportCorner<S>(b, dir).vertex();
 }
 
 /// One volume's principal box projected on the other volume's nine slab directions: each direction

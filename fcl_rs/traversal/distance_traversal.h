@@ -59,8 +59,10 @@ S distanceLowerBound(const detail::MovedFrame<S>& moved2, const RS<S>& b1, const
   if (improve(length - h1.dot(n.cwiseAbs()) - h2.dot((M.transpose() * n).cwiseAbs()))) return best;
   // The polytopes, exactly: lowest point of b2 along unit m (b1's frame) minus b1's highest.
   const auto gap = [&](const V& m) { return m.dot(f.t) - b2.support(-(M.transpose() * m)) - b1.support(m); };
-  if (improve(gap(n))) return best;
-  const V between = M * detail::extremeVertex(b2, V(-(M.transpose() * n))) + f.t - detail::extremeVertex(b1, n);
+  // Along n, the supports' corners also give the extreme points for the next direction.
+  const detail::SupportCorner<S> on1(b1, n), on2(b2, V(-(M.transpose() * n)));
+  if (improve(n.dot(f.t) - on2.max() - on1.max())) return best;
+  const V between = M * on2.vertex() + f.t - on1.vertex();
   if (between.squaredNorm() > 0) improve(gap(between.normalized()));
   return best;
 }
