@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/detail/primitive_shape_algorithm/triangle_distance.h>
 #include <fcl/narrowphase/detail/traversal/distance/mesh_distance_traversal_node.h>
 #include <fcl/narrowphase/detail/traversal/distance/mesh_shape_distance_traversal_node.h>
 
@@ -73,6 +74,23 @@ S distanceLowerBound(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const R
                      S enough = std::numeric_limits<S>::max())
 {
   return distanceLowerBound(detail::MovedFrame<S>(R, T, b2), b1, b2, enough);
+}
+
+/// True when triangles p and q (same coordinates) are at least `distance` apart along the line through their
+/// centroids, so that their distance cannot improve a result of `distance`: for any vector d, the gap between
+/// the triangles' projections on d, over |d|, is at most their distance. Compared squared (no square root), after
+/// subtracting the dot products' rounding (<= 3u |d|_1 max|v|_inf each, doubled) and with 16u of margin on the
+/// squares, so that a pair is skipped only when its exact distance is at least `distance`.
+template <typename S>
+bool leafCannotImprove(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], S distance)
+{
+  const fcl::Vector3<S> d = (q[0] + q[1] + q[2]) - (p[0] + p[1] + p[2]);
+  const S reach = std::max({p[0].template lpNorm<Eigen::Infinity>(), p[1].template lpNorm<Eigen::Infinity>(),
+                            p[2].template lpNorm<Eigen::Infinity>(), q[0].template lpNorm<Eigen::Infinity>(),
+                            q[1].template lpNorm<Eigen::Infinity>(), q[2].template lpNorm<Eigen::Infinity>()});
+  const S gap = std::min({d.dot(q[0]), d.dot(q[1]), d.dot(q[2])}) - std::max({d.dot(p[0]), d.dot(p[1]), d.dot(p[2])}) -
+                12 * std::numeric_limits<S>::epsilon() * d.template lpNorm<1>() * reach;
+  return gap > 0 && gap * gap >= (1 + 16 * std::numeric_limits<S>::epsilon()) * distance * distance * d.squaredNorm();
 }
 
 /// Mesh-mesh distance in model1's frame, as FCL's MeshDistanceTraversalNodeRSS: a BV test bounds the
@@ -155,12 +173,39 @@ void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
   const fcl::Matrix3<S> R = node.tf.linear();
   const fcl::Vector3<S> T = node.tf.translation();
   detail::MovedFrames<S> moved(R, T, model2);
+  // model2's vertices in model1's coordinates, each moved (as FCL's triangle distance moves them) when first used.
+  using V = fcl::Vector3<S>;
+  std::vector<V> moved_vertices(std::size_t(std::max(model2.num_vertices, 0)));
+  std::vector<char> vertex_moved(moved_vertices.size(), 0);
+  const auto movedVertex = [&](int i) -> const V& {
+    if (!vertex_moved[std::size_t(i)])
+    {
+      moved_vertices[std::size_t(i)] = node.tf * node.vertices2[i];
+      vertex_moved[std::size_t(i)] = 1;
+    }
+    return moved_vertices[std::size_t(i)];
+  };
   // A pair of leaves is bounded by its triangles' distance itself, which is exact and cheaper than an RS bound
-  // (docs/kernel.md): it is measured at once, and the pair is never visited again.
+  // (docs/kernel.md): it is measured at once, and the pair is never visited again. A gap along the line through
+  // the triangles' centroids first skips pairs that cannot improve the result (about a third of them).
   const auto bound = [&](int b1, int b2) {
     if (!model1.getBV(b1).isLeaf() || !model2.getBV(b2).isLeaf())
       return node.Node::BVTesting(b1, b2, moved(b2));
-    node.Node::leafTesting(b1, b2);
+    const int id1 = model1.getBV(b1).primitiveId(), id2 = model2.getBV(b2).primitiveId();
+    const fcl::Triangle& t1 = node.tri_indices1[id1];
+    const fcl::Triangle& t2 = node.tri_indices2[id2];
+    const V p[3] = {node.vertices1[t1[0]], node.vertices1[t1[1]], node.vertices1[t1[2]]};
+    const V q[3] = {movedVertex(t2[0]), movedVertex(t2[1]), movedVertex(t2[2])};
+    if (!leafCannotImprove(p, q, node.result->min_distance))
+    {
+      if (node.enable_statistics) node.num_leaf_tests++;
+      V P, Q;
+      const S d = fcl::detail::TriangleDistance<S>::triDistance(p, q, P, Q);
+      if (node.request.enable_nearest_points)
+        node.result->update(d, node.model1, node.model2, id1, id2, P, Q);
+      else
+        node.result->update(d, node.model1, node.model2, id1, id2);
+    }
     return std::numeric_limits<S>::max();
   };
   // A min-heap on bound; ties pop in no particular order.
