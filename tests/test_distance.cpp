@@ -325,6 +325,47 @@ TYPED_TEST(DistanceMeshMesh, ErrorBoundsAreHonoured)
   }
 }
 
+// The traversal's leaf filter (distance_traversal.h) skips a triangle pair only when its exact distance reaches the
+// given distance, and skips pairs apart along their centroids' line; pairs far from the origin stress its rounding.
+TYPED_TEST(DistanceMeshMesh, LeafFilterSkipsOnlyPairsThatCannotImprove)
+{
+  using S = TypeParam;
+  using V = fcl::Vector3<S>;
+  auto rng = fcl_rs::test::seededRng("distance/leaf-filter/" + scalarName<S>());
+  std::uniform_real_distribution<double> u(-1, 1);
+  const auto point = [&](S scale) -> V { return V(S(u(rng)), S(u(rng)), S(u(rng))) * scale; };
+  int separated = 0, skipped_at_half = 0;
+  for (int i = 0; i < 4000; ++i)
+  {
+    const S far = i % 2 ? S(0) : S(1000);  // the pair's place: at the origin or 1000 away
+    const V base = point(far), offset = point(S(3));
+    V p[3], q[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      p[k] = base + point(S(1));
+      q[k] = base + offset + point(i % 3 ? S(1) : S(0.01));  // some slivers
+    }
+    V P, Q;
+    const S exact = fcl::detail::TriangleDistance<S>::triDistance(p, q, P, Q);
+    // The exact distance as FCL computes it carries its own rounding, of the coordinates' size.
+    const S slack = 64 * std::numeric_limits<S>::epsilon() * (far + 4);
+    EXPECT_FALSE(fcl_rs::leafCannotImprove(p, q, exact + slack))
+        << "skipped a pair " << exact << " apart for a distance " << exact + slack << " (pair " << i << ")";
+    if (exact > 4 * slack)
+    {
+      ++separated;
+      skipped_at_half += fcl_rs::leafCannotImprove(p, q, exact / 2);
+    }
+  }
+  {
+    const S nan = std::numeric_limits<S>::quiet_NaN();
+    const V p[3] = {V(0, 0, 0), V(1, 0, 0), V(0, 1, 0)}, q[3] = {V(0, 0, 5), V(1, 0, nan), V(0, 1, 5)};
+    EXPECT_FALSE(fcl_rs::leafCannotImprove(p, q, S(1))) << "a NaN vertex must leave the pair to the exact test";
+  }
+  // Not vacuous: most separated pairs are at least half their distance apart along the centroids' line.
+  EXPECT_GT(skipped_at_half, separated / 2) << skipped_at_half << " of " << separated << " separated pairs skipped";
+}
+
 /// Every bounded shape FCL measures against a mesh (its mesh-plane/halfspace distance crashes in libccd).
 template <typename S>
 std::vector<std::pair<std::string, std::shared_ptr<fcl::CollisionGeometry<S>>>> shapes()

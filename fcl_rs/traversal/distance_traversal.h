@@ -187,7 +187,7 @@ void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
   };
   // A pair of leaves is bounded by its triangles' distance itself, which is exact and cheaper than an RS bound
   // (docs/kernel.md): it is measured at once, and the pair is never visited again. A gap along the line through
-  // the triangles' centroids first skips pairs that cannot improve the result (about a third of them).
+  // the triangles' centroids first skips pairs that cannot improve the result (15-52 % of them in fcl_rs_bench_distance).
   const auto bound = [&](int b1, int b2) {
     if (!model1.getBV(b1).isLeaf() || !model2.getBV(b2).isLeaf())
       return node.Node::BVTesting(b1, b2, moved(b2));
