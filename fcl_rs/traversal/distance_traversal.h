@@ -153,12 +153,12 @@ private:
 /// Runs the mesh-mesh distance traversal of node (preprocess, descent, postprocess), best first: the pair with
 /// the smallest lower bound is split next (the larger node, as FCL's descent), both children bounded, and the
 /// search ends when the smallest bound left cannot improve the result, so every pair split has a bound below the
-/// final distance. FCL's ordered depth-first descent splits more pairs (fcl_rs_bench_distance: 1.3-1.6x the BV
-/// and triangle tests on FCL's and the bunny-hand meshes, docs/kernel.md), since a subtree searched first can keep
-/// a far pair's bound in play until a nearer subtree is reached. The nearer child is split at once when no
-/// waiting pair is nearer, which spares most heap operations. A child pair of two leaves is measured at once
-/// instead of bounded. As in collideTrees, a node of model2 has its frame moved into model1's coordinates once
-/// per query, not once per bound.
+/// final distance. FCL's ordered depth-first descent splits every pair whose bound is below the distance found
+/// when it reaches it, which in the subtrees searched first is still far above the final distance
+/// (fcl_rs_bench_distance: 1.0-1.5x the BV tests and 1.2-1.7x the triangle tests, docs/kernel.md). The nearer
+/// child is split at once when no waiting pair is nearer, which spares most heap operations. A child pair of two
+/// leaves is measured at once instead of bounded. As in collideTrees, a node of model2 has its frame moved into
+/// model1's coordinates once per query, not once per bound.
 template <typename S>
 void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
 {
@@ -187,7 +187,8 @@ void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
   };
   // A pair of leaves is bounded by its triangles' distance itself, which is exact and cheaper than an RS bound
   // (docs/kernel.md): it is measured at once, and the pair is never visited again. A gap along the line through
-  // the triangles' centroids first skips pairs that cannot improve the result (15-52 % of them in fcl_rs_bench_distance).
+  // the triangles' centroids first skips pairs that cannot improve the result (15-52 % of them in
+  // fcl_rs_bench_distance).
   const auto bound = [&](int b1, int b2) {
     if (!model1.getBV(b1).isLeaf() || !model2.getBV(b2).isLeaf())
       return node.Node::BVTesting(b1, b2, moved(b2));
