@@ -17,6 +17,7 @@
 #include "fcl_rs/bv/rs.h"
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/traversal/moved_frames.h"
+#include "fcl_rs/traversal/per_query_table.h"
 
 namespace fcl_rs {
 
@@ -175,15 +176,9 @@ void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
   detail::MovedFrames<S> moved(R, T, model2);
   // model2's vertices in model1's coordinates, each moved (as FCL's triangle distance moves them) when first used.
   using V = fcl::Vector3<S>;
-  std::vector<V> moved_vertices(std::size_t(std::max(model2.num_vertices, 0)));
-  std::vector<char> vertex_moved(moved_vertices.size(), 0);
+  detail::PerQueryTable<V> moved_vertices(std::size_t(std::max(model2.num_vertices, 0)));
   const auto movedVertex = [&](int i) -> const V& {
-    if (!vertex_moved[std::size_t(i)])
-    {
-      moved_vertices[std::size_t(i)] = node.tf * node.vertices2[i];
-      vertex_moved[std::size_t(i)] = 1;
-    }
-    return moved_vertices[std::size_t(i)];
+    return moved_vertices.get(std::size_t(i), [&] { return V(node.tf * node.vertices2[i]); });
   };
   // A pair of leaves is bounded by its triangles' distance itself, which is exact and cheaper than an RS bound
   // (docs/kernel.md): it is measured at once, and the pair is never visited again. A gap along the line through
