@@ -137,15 +137,20 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
       const int b = t >= 0 ? std::min(kBins - 1, int(t)) : 0;
       bins[std::size_t(b)].add(lo_[std::size_t(i)], hi_[std::size_t(i)], 1);
     }
-    // Area and count of bins b..kBins-1 merged.
+    // Area and count of bins b..kBins-1 merged (an empty bin changes neither).
     std::array<S, kBins> right_area;
     std::array<int, kBins> right_count;
     Bin right;
+    S area = 0;
     for (int b = kBins - 1; b > 0; --b)
     {
-      right.add(bins[std::size_t(b)]);
+      if (bins[std::size_t(b)].count > 0)
+      {
+        right.add(bins[std::size_t(b)]);
+        area = right.area();
+      }
       right_count[std::size_t(b)] = right.count;
-      right_area[std::size_t(b)] = right.count > 0 ? right.area() : 0;
+      right_area[std::size_t(b)] = area;
     }
     Bin left;
     for (int b = 0; b + 1 < kBins; ++b)
