@@ -550,5 +550,62 @@ TYPED_TEST(RSTest, TreeNodesContainTheirTrianglesAfterBuildAndRefit)
   }
 }
 
+/// Every node of a and b holds the same volume, bit for bit, and the same primitives.
+template <typename S>
+void expectSameTree(const fcl::BVHModel<RS<S>>& a, const fcl::BVHModel<RS<S>>& b, const std::string& what)
+{
+  ASSERT_EQ(a.getNumBVs(), b.getNumBVs()) << what;
+  int differ = 0;
+  for (int k = 0; k < a.getNumBVs(); ++k)
+  {
+    const auto &x = a.getBV(k), &y = b.getBV(k);
+    differ += !(x.bv.axis == y.bv.axis && x.bv.origin == y.bv.origin && x.bv.lo == y.bv.lo && x.bv.hi == y.bv.hi &&
+                x.bv.box_excess == y.bv.box_excess && x.first_child == y.first_child &&
+                x.first_primitive == y.first_primitive && x.num_primitives == y.num_primitives);
+  }
+  EXPECT_EQ(differ, 0) << what << ": nodes that differ";
+}
+
+// buildModel's NodeFitter must fit exactly the volumes FCL's own fitter does (FitImpl), on meshes whose
+// triangles share vertices and on meshes where each corner is its own vertex, and in a top-down refit after
+// a motion (fits of current and previous positions).
+TYPED_TEST(RSTest, NodeFitterFitsFCLsVolumesBitForBit)
+{
+  using S = TypeParam;
+  auto rng = seededRng("NodeFitterFitsFCLsVolumes");
+  const TriangleMesh<S> shared = makeTorus<S>(S(2), S(0.5), 24, 12);
+  TriangleMesh<S> unshared;  // the same surface, every corner its own vertex
+  for (const auto& t : shared.triangles)
+  {
+    const std::size_t v = unshared.vertices.size();
+    for (int c = 0; c < 3; ++c) unshared.vertices.push_back(shared.vertices[t[c]]);
+    unshared.triangles.emplace_back(v, v + 1, v + 2);
+  }
+  for (const TriangleMesh<S>* mesh : {&shared, static_cast<const TriangleMesh<S>*>(&unshared)})
+  {
+    const std::string what = mesh == &shared ? "shared vertices" : "unshared vertices";
+    const auto fast = buildModel<RS<S>>(*mesh);
+    ASSERT_NE(dynamic_cast<const NodeFitter<S>*>(fast->bv_fitter.get()), nullptr) << "buildModel fits RS with NodeFitter";
+    fcl::BVHModel<RS<S>> fcl_fit;
+    fcl_fit.bv_splitter = std::make_shared<SurfaceAreaSplitter<S>>();
+    ASSERT_EQ(fcl_fit.beginModel(), fcl::BVH_OK);
+    ASSERT_EQ(fcl_fit.addSubModel(mesh->vertices, mesh->triangles), fcl::BVH_OK);
+    ASSERT_EQ(fcl_fit.endModel(), fcl::BVH_OK);
+    expectSameTree(*fast, fcl_fit, what + ", build");
+
+    std::normal_distribution<double> g(0, 0.1);
+    std::vector<fcl::Vector3<S>> moved = mesh->vertices;
+    for (auto& v : moved) v += fcl::Vector3<S>(S(g(rng)), S(g(rng)), S(g(rng)));
+    for (fcl::BVHModel<RS<S>>* model : {fast.get(), static_cast<fcl::BVHModel<RS<S>>*>(&fcl_fit)})
+    {
+      ASSERT_EQ(model->beginUpdateModel(), fcl::BVH_OK);
+      for (const auto& v : moved) model->updateVertex(v);
+      ASSERT_EQ(model->endUpdateModel(true, false), fcl::BVH_OK);
+    }
+    expectSameTree(*fast, fcl_fit, what + ", top-down refit");
+    expectTreeContainsTriangles(*fast, TriangleMesh<S>{moved, mesh->triangles});
+  }
+}
+
 }  // namespace
 }  // namespace fcl_rs

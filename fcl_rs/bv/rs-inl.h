@@ -95,11 +95,19 @@ void RS<S>::expandPoints(int n, PointAt point_at)
   Array low = Array::Constant(std::numeric_limits<S>::max());
   Array high = Array::Constant(std::numeric_limits<S>::lowest());
   S largest_norm1 = 0;
+  // Diagonal projections are (y_i +- y_j) / sqrt(2): the extremes of the sums are scaled once, after the loop.
+  // Rounded multiplication by a positive constant is monotone, so this gives projectOnSlab's extremes exactly.
+  Array unit;
+  for (int k = 0; k < kNumSlabs; ++k) unit[k] = kSlabDirections[std::size_t(k)].sign == 0 ? S(1) : S(M_SQRT1_2);
   for (int i = 0; i < n; ++i)
   {
     const fcl::Vector3<S> y = toFrame(point_at(i));
     Array v;
-    for (int k = 0; k < kNumSlabs; ++k) v[k] = projectOnSlab(y, k);
+    for (int k = 0; k < kNumSlabs; ++k)
+    {
+      const SlabDirection& d = kSlabDirections[std::size_t(k)];
+      v[k] = d.sign == 0 ? y[d.i] : y[d.i] + S(d.sign) * y[d.j];
+    }
     low = low.min(v);
     high = high.max(v);
     largest_norm1 = std::max(largest_norm1, y.template lpNorm<1>());
@@ -107,8 +115,8 @@ void RS<S>::expandPoints(int n, PointAt point_at)
   if (n > 0)
   {
     const S err = 4 * detail::eps<S>() * largest_norm1;  // as expandFrame's, for the largest point
-    lo = lo.cwiseMin((low - err).matrix());
-    hi = hi.cwiseMax((high + err).matrix());
+    lo = lo.cwiseMin((low * unit - err).matrix());
+    hi = hi.cwiseMax((high * unit + err).matrix());
   }
   updateBoxExcess();
 }

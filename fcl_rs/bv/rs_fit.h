@@ -2,10 +2,13 @@
 #ifndef FCL_RS_RS_FIT_H
 #define FCL_RS_RS_FIT_H
 
+#include <algorithm>
+#include <cstddef>
 #include <limits>
 #include <vector>
 
 #include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/bvh/detail/BV_fitter_base.h>
 #include <fcl/geometry/shape/halfspace.h>
 #include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/box.h>
@@ -71,38 +74,169 @@ void constructBox(const RS<S>& bv, const fcl::Transform3<S>& tf_bv, fcl::Box<S>&
   tf = tf_bv * local;
 }
 
+/// The points a top-down fit of a tree node uses (the paper's fit): each triangle's three vertices, each
+/// followed by its previous position when prev_vertices is set (a motion update), or each point of a cloud.
+template <typename S>
+void nodeFitPoints(const fcl::Vector3<S>* vertices, const fcl::Vector3<S>* prev_vertices, const fcl::Triangle* triangles,
+                   fcl::BVHModelType type, const unsigned int* primitive_indices, int num_primitives,
+                   std::vector<const fcl::Vector3<S>*>& points)
+{
+  points.clear();
+  const auto add = [&](std::size_t v) {
+    points.push_back(&vertices[v]);
+    if (prev_vertices) points.push_back(&prev_vertices[v]);
+  };
+  if (type == fcl::BVH_MODEL_TRIANGLES)
+  {
+    points.reserve(std::size_t(3 * (prev_vertices ? 2 : 1) * num_primitives));
+    for (int i = 0; i < num_primitives; ++i)
+    {
+      const fcl::Triangle& t = triangles[primitive_indices[i]];
+      add(t[0]);
+      add(t[1]);
+      add(t[2]);
+    }
+  }
+  else if (type == fcl::BVH_MODEL_POINTCLOUD)
+    for (int i = 0; i < num_primitives; ++i) add(primitive_indices[i]);
+}
+
+/// The distinct vertices of one set of triangles after another (the nodes of a tree, as a build visits them),
+/// without sorting: each vertex remembers the last set that listed it.
+class DistinctVertices
+{
+public:
+  /// Indices of the distinct vertices of triangles[primitive_indices[i]], i < n, in order of first appearance.
+  const std::vector<std::size_t>& of(const fcl::Triangle* triangles, const unsigned int* primitive_indices, int n)
+  {
+    if (++set_ == 0)
+    {  // 2^32 sets: start the marks over
+      std::fill(last_set_.begin(), last_set_.end(), 0u);
+      set_ = 1;
+    }
+    distinct_.clear();
+    for (int i = 0; i < n; ++i)
+    {
+      const fcl::Triangle& t = triangles[primitive_indices[i]];
+      for (int c = 0; c < 3; ++c)
+      {
+        const std::size_t v = t[c];
+        if (v >= last_set_.size()) last_set_.resize(v + 1, 0u);
+        if (last_set_[v] != set_)
+        {
+          last_set_[v] = set_;
+          distinct_.push_back(v);
+        }
+      }
+    }
+    return distinct_;
+  }
+
+  /// Releases the marks (a build is over).
+  void clear()
+  {
+    std::vector<unsigned>().swap(last_set_);
+    std::vector<std::size_t>().swap(distinct_);
+    set_ = 0;
+  }
+
+private:
+  std::vector<unsigned> last_set_;  // per vertex: the number of the last set that listed it (0: none)
+  std::vector<std::size_t> distinct_;
+  unsigned set_ = 0;
+};
+
+/// The fitter of fcl_rs::buildModel's RS trees: the volumes of FCL's fitter (FitImpl below: the principal frame
+/// of the node's triangle corners, then the slabs over them), bit for bit, in less time. The slabs are grown over
+/// the node's distinct vertices only (a vertex of a closed mesh is a corner of about six triangles); minima, maxima
+/// and the padding by the largest point do not depend on repeats or order. final: FCL's BVFitterBase has no virtual
+/// destructor (std::shared_ptr, as BVHModel holds it, deletes the type it was made with).
+template <typename S>
+class NodeFitter final : public fcl::detail::BVFitterBase<RS<S>>
+{
+public:
+  void set(fcl::Vector3<S>* vertices, fcl::Triangle* triangles, fcl::BVHModelType type) override
+  {
+    set(vertices, nullptr, triangles, type);
+  }
+
+  void set(fcl::Vector3<S>* vertices, fcl::Vector3<S>* prev_vertices, fcl::Triangle* triangles,
+           fcl::BVHModelType type) override
+  {
+    vertices_ = vertices;
+    prev_vertices_ = prev_vertices;
+    triangles_ = triangles;
+    type_ = type;
+    sharing_ = Sharing::kUnknown;
+  }
+
+  RS<S> fit(unsigned int* primitive_indices, int num_primitives) override
+  {
+    nodeFitPoints(vertices_, prev_vertices_, triangles_, type_, primitive_indices, num_primitives, points_);
+    if (points_.empty()) return RS<S>();
+    const auto point = [&](int i) -> const fcl::Vector3<S>& { return *points_[std::size_t(i)]; };
+    const PrincipalFrame<S> frame = principalFrame<S>(int(points_.size()), point);
+    RS<S> bv(frame.axis, frame.mean);
+    if (type_ != fcl::BVH_MODEL_TRIANGLES)
+    {
+      bv.expandPoints(int(points_.size()), point);
+      return bv;
+    }
+    // Whether the mesh's triangles share vertices is seen at the root, the first node fitted: where they do not
+    // (every corner its own vertex, as some file formats store meshes), listing the distinct ones costs more
+    // than it saves.
+    if (sharing_ == Sharing::kUnshared)
+    {
+      bv.expandPoints(int(points_.size()), point);
+      return bv;
+    }
+    const std::vector<std::size_t>& distinct = distinct_.of(triangles_, primitive_indices, num_primitives);
+    if (sharing_ == Sharing::kUnknown)
+      sharing_ = 2 * distinct.size() <= std::size_t(3 * num_primitives) ? Sharing::kShared : Sharing::kUnshared;
+    if (prev_vertices_)
+      bv.expandPoints(int(2 * distinct.size()), [&](int i) -> const fcl::Vector3<S>& {
+        return (i & 1 ? prev_vertices_ : vertices_)[distinct[std::size_t(i / 2)]];
+      });
+    else
+      bv.expandPoints(int(distinct.size()),
+                      [&](int i) -> const fcl::Vector3<S>& { return vertices_[distinct[std::size_t(i)]]; });
+    return bv;
+  }
+
+  /// FCL calls this when a build or refit ends: the scratch arrays are released, not kept for the model's lifetime.
+  void clear() override
+  {
+    vertices_ = prev_vertices_ = nullptr;
+    triangles_ = nullptr;
+    std::vector<const fcl::Vector3<S>*>().swap(points_);
+    distinct_.clear();
+  }
+
+private:
+  fcl::Vector3<S>* vertices_ = nullptr;
+  fcl::Vector3<S>* prev_vertices_ = nullptr;
+  fcl::Triangle* triangles_ = nullptr;
+  fcl::BVHModelType type_ = fcl::BVH_MODEL_UNKNOWN;
+  std::vector<const fcl::Vector3<S>*> points_;  // the node's fit points (reused across nodes)
+  enum class Sharing { kUnknown, kShared, kUnshared } sharing_ = Sharing::kUnknown;
+  DistinctVertices distinct_;
+};
+
 }  // namespace fcl_rs
 
 namespace fcl {
 namespace detail {
 
-/// Top-down fit used by BVHModel::endModel and top-down refit: PCA of the node's triangle vertices
-/// (each triangle contributes its three vertices, as in the paper), or of its points.
+/// Top-down fit used by BVHModel::endModel and top-down refit with FCL's own fitter (fcl_rs::NodeFitter, which
+/// buildModel installs, fits the same volumes faster).
 template <typename S>
 struct FitImpl<S, fcl_rs::RS<S>>
 {
   static fcl_rs::RS<S> run(const BVFitter<fcl_rs::RS<S>>& fitter, unsigned int* primitive_indices, int num_primitives)
   {
     std::vector<const Vector3<S>*> points;
-    const int copies = fitter.prev_vertices ? 2 : 1;
-    auto add = [&](int v) {
-      points.push_back(&fitter.vertices[v]);
-      if (fitter.prev_vertices) points.push_back(&fitter.prev_vertices[v]);
-    };
-    if (fitter.type == BVH_MODEL_TRIANGLES)
-    {
-      points.reserve(std::size_t(3 * copies * num_primitives));
-      for (int i = 0; i < num_primitives; ++i)
-      {
-        const Triangle& t = fitter.tri_indices[primitive_indices[i]];
-        add(int(t[0])); add(int(t[1])); add(int(t[2]));
-      }
-    }
-    else if (fitter.type == BVH_MODEL_POINTCLOUD)
-    {
-      points.reserve(std::size_t(copies * num_primitives));
-      for (int i = 0; i < num_primitives; ++i) add(int(primitive_indices[i]));
-    }
+    fcl_rs::nodeFitPoints(fitter.vertices, fitter.prev_vertices, fitter.tri_indices, fitter.type, primitive_indices,
+                          num_primitives, points);
     if (points.empty()) return fcl_rs::RS<S>();
     return fcl_rs::fitPoints<S>(int(points.size()), [&](int i) -> const Vector3<S>& { return *points[std::size_t(i)]; });
   }

@@ -27,6 +27,7 @@ std::shared_ptr<fcl::detail::BVSplitterBase<BV>> defaultSplitter()
 }
 
 /// A built BVHModel<BV> of the mesh (any BV type: RS or FCL's), split by splitter. Validates the input first.
+/// RS trees are fitted by NodeFitter (FCL's RS volumes, faster).
 template <typename BV>
 std::shared_ptr<fcl::BVHModel<BV>> buildModel(const std::vector<fcl::Vector3<typename BV::S>>& vertices,
                                               const std::vector<fcl::Triangle>& triangles,
@@ -35,6 +36,8 @@ std::shared_ptr<fcl::BVHModel<BV>> buildModel(const std::vector<fcl::Vector3<typ
   validateMesh(vertices, triangles);
   auto model = std::make_shared<fcl::BVHModel<BV>>();
   model->bv_splitter = std::move(splitter);
+  if constexpr (std::is_same<BV, RS<typename BV::S>>::value)
+    model->bv_fitter = std::make_shared<NodeFitter<typename BV::S>>();
   if (model->beginModel(int(triangles.size()), int(vertices.size())) != fcl::BVH_OK ||
       model->addSubModel(vertices, triangles) != fcl::BVH_OK || model->endModel() != fcl::BVH_OK)
     throw std::runtime_error("fcl_rs: FCL refused to build the BVH model");

@@ -82,11 +82,13 @@ private:
   std::vector<fcl::Vector3<S>> lo_, hi_, centre_;
 };
 
-/// Makes model's next build use SurfaceAreaSplitter (call before beginModel), as fcl_rs::buildModel does.
+/// Makes model's next build use SurfaceAreaSplitter and NodeFitter (call before beginModel), as
+/// fcl_rs::buildModel does.
 template <typename S>
 void useSurfaceAreaSplits(fcl::BVHModel<RS<S>>& model)
 {
   model.bv_splitter = std::make_shared<SurfaceAreaSplitter<S>>();
+  model.bv_fitter = std::make_shared<NodeFitter<S>>();
 }
 
 template <typename S>
@@ -135,21 +137,30 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
       const int b = t >= 0 ? std::min(kBins - 1, int(t)) : 0;
       bins[std::size_t(b)].add(lo_[std::size_t(i)], hi_[std::size_t(i)], 1);
     }
-    // right[b]: bins b..kBins-1 merged.
-    std::array<Bin, kBins> right;
-    right[kBins - 1] = bins[kBins - 1];
-    for (int b = kBins - 2; b > 0; --b)
+    // Area and count of bins b..kBins-1 merged (an empty bin changes neither).
+    std::array<S, kBins> right_area;
+    std::array<int, kBins> right_count;
+    Bin right;
+    S area = 0;
+    for (int b = kBins - 1; b > 0; --b)
     {
-      right[std::size_t(b)] = right[std::size_t(b) + 1];
-      right[std::size_t(b)].add(bins[std::size_t(b)]);
+      if (bins[std::size_t(b)].count > 0)
+      {
+        right.add(bins[std::size_t(b)]);
+        area = right.area();
+      }
+      right_count[std::size_t(b)] = right.count;
+      right_area[std::size_t(b)] = area;
     }
     Bin left;
     for (int b = 0; b + 1 < kBins; ++b)
     {
+      // A plane after an empty bin cuts like the plane before it, at the same cost: only the first is kept.
+      if (bins[std::size_t(b)].count == 0) continue;
       left.add(bins[std::size_t(b)]);
-      const Bin& rest = right[std::size_t(b) + 1];
-      if (left.count == 0 || rest.count == 0) continue;
-      const S cost = left.count * left.area() + rest.count * rest.area();
+      const int rest = right_count[std::size_t(b) + 1];
+      if (rest == 0) break;
+      const S cost = left.count * left.area() + rest * right_area[std::size_t(b) + 1];
       if (cost < best)
       {
         best = cost;
