@@ -37,7 +37,7 @@ S distanceLowerBound(const detail::MovedFrame<S>& moved2, const RS<S>& b1, const
 {
   if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
   using V = fcl::Vector3<S>;
-  const detail::PairFrame<S> f(moved2, b1, b2);
+  const detail::PairFrame<S> f(moved2, b1);
   const fcl::Matrix3<S>& M = f.M;
   S best = 0;
   const auto improve = [&](S g) {
@@ -58,9 +58,9 @@ S distanceLowerBound(const detail::MovedFrame<S>& moved2, const RS<S>& b1, const
   const V n = c / length;
   if (improve(length - h1.dot(n.cwiseAbs()) - h2.dot((M.transpose() * n).cwiseAbs()))) return best;
   // The polytopes, exactly: lowest point of b2 along unit m (b1's frame) minus b1's highest.
-  const auto gap = [&](const V& m) { return m.dot(f.t) - b2.support(-(M.transpose() * m)) - b1.support(m); };
+  const auto gap = [&](const V& m) { return m.dot(f.t()) - b2.support(-(M.transpose() * m)) - b1.support(m); };
   if (improve(gap(n))) return best;
-  const V between = M * detail::extremeVertex(b2, V(-(M.transpose() * n))) + f.t - detail::extremeVertex(b1, n);
+  const V between = M * detail::extremeVertex(b2, V(-(M.transpose() * n))) + f.t() - detail::extremeVertex(b1, n);
   if (between.squaredNorm() > 0) improve(gap(between.normalized()));
   return best;
 }
