@@ -601,53 +601,51 @@ S slabGap(S lo, S hi, const RS<S>& b, const Box<S>& box, const ProjectedBox<S>& 
 namespace detail {
 
 /// The boxed test (OverlapTest::kBoxed): each volume's nine slabs against the other's principal box, measured
-/// from the box centres (|middle of the box - middle of the slab| > radius + half width means apart). Both
-/// volumes' slab k are evaluated together, as the two lanes of a 2-array (one SSE2 register for double): lane 0
-/// b1's slab against b2's box, lane 1 b2's slab against b1's box. The six face axes come first with one exit
-/// (most separated pairs end there, as in an OBB test); the twelve diagonals, which every overlapping pair
-/// reaches, have no branch. They are compared sqrt(2) times (a diagonal is (u_i +- u_j) / sqrt(2)).
+/// from the box centres (|middle of the box - middle of the slab| > radius + half width means apart). Each
+/// volume's three face axes come first with one exit (most separated pairs end there, as in an OBB test); the
+/// twelve diagonals, which every overlapping pair reaches, have no branch. They are compared sqrt(2) times (a
+/// diagonal is (u_i +- u_j) / sqrt(2)).
 template <typename S>
 bool boxedOverlap(const MovedFrame<S>& moved2, const RS<S>& b1)
 {
   using V = fcl::Vector3<S>;
-  using Lanes = Eigen::Array<S, 2, 1>;
   const PairFrame<S> f(moved2, b1);
   const fcl::Matrix3<S>& M = f.M;
   const V& h1 = f.box1.h;
   const V& h2 = f.box2.h;
-  // P[i][c] = (M_ic h2_c, M_ci h1_c): b2's box reaches sum_c |M_ic| h2_c along b1's axis i, b1's box
-  // sum_c |M_ci| h1_c along b2's axis i.
-  Lanes P[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int c = 0; c < 3; ++c) P[i][c] = Lanes(M(i, c), M(c, i)) * Lanes(h2[c], h1[c]);
+  // b2's box reaches sum_c |M_ic| h2_c along b1's axis i: the L1 norm of row i of N2 = M diag(h2); b1's box
+  // reaches the L1 norm of column i of N1 = diag(h1) M along b2's axis i.
+  const fcl::Matrix3<S> N2 = M * h2.asDiagonal();
   const V d = f.centre2 - f.box1.c;  // from b1's box centre to b2's, b1's frame
+  if (((d.cwiseAbs() - N2.cwiseAbs().rowwise().sum() - h1).array() > f.tol).any()) return false;
+  const fcl::Matrix3<S> N1 = h1.asDiagonal() * M;
   const V e = -(M.transpose() * d);  // from b2's box centre to b1's, b2's frame
-  const Lanes centre[3] = {Lanes(d[0], e[0]), Lanes(d[1], e[1]), Lanes(d[2], e[2])};
-  Lanes faces = Lanes::Constant(-std::numeric_limits<S>::max());
-  for (int i = 0; i < 3; ++i)
-    faces = faces.max(centre[i].abs() - (P[i][0].abs() + P[i][1].abs() + P[i][2].abs()) - Lanes(h1[i], h2[i]));
-  if (faces.maxCoeff() > f.tol) return false;
+  if (((e.cwiseAbs() - N1.cwiseAbs().colwise().sum().transpose() - h2).array() > f.tol).any()) return false;
   // Diagonal p over axes (i, j) is slab 3 + p (u_i + u_j) and 6 + p (u_i - u_j). sqrt(2) times a box's reach
-  // along it is the L1 norm of rows i +- j of M diag(h2) (b1's diagonal) or of columns i +- j of diag(h1) M
-  // (b2's). The slabs' middles are measured from their own box centre (b2's in MovedFrame).
+  // along it is the L1 norm of rows i +- j of N2 (b1's diagonal) or of columns i +- j of N1 (b2's). b2's slabs
+  // are measured from its box centre (MovedFrame), b1's from its frame origin, as centre2.
   const S scale = S(M_SQRT1_2);
-  const auto lo = b1.lo.template tail<6>().array(), hi = b1.hi.template tail<6>().array();
-  const Eigen::Array<S, 6, 1> mid1 = (lo + hi) * scale - scaledDiagonals(f.box1.c), half1 = (hi - lo) * scale;
-  Lanes diagonals = Lanes::Constant(-std::numeric_limits<S>::max());
+  const S* lo = b1.lo.data() + 3;
+  const S* hi = b1.hi.data() + 3;
+  S worst = -std::numeric_limits<S>::max();
   // A lambda inlined by force: gcc 12 calls it three times otherwise (about 40 more instructions per test).
   const auto axisPair = [&](int p, int i, int j) __attribute__((always_inline)) {
-    const Lanes plus = (P[i][0] + P[j][0]).abs() + (P[i][1] + P[j][1]).abs() + (P[i][2] + P[j][2]).abs();
-    const Lanes minus = (P[i][0] - P[j][0]).abs() + (P[i][1] - P[j][1]).abs() + (P[i][2] - P[j][2]).abs();
-    const Lanes plus_gap = (centre[i] + centre[j] - Lanes(mid1[p], moved2.diagonal_mid[p])).abs() -
-                           Lanes(half1[p], moved2.diagonal_half[p]) - plus;
-    const Lanes minus_gap = (centre[i] - centre[j] - Lanes(mid1[p + 3], moved2.diagonal_mid[p + 3])).abs() -
-                            Lanes(half1[p + 3], moved2.diagonal_half[p + 3]) - minus;
-    diagonals = diagonals.max(plus_gap.max(minus_gap));
+    using std::abs;
+    const S plus2 = abs(N2(i, 0) + N2(j, 0)) + abs(N2(i, 1) + N2(j, 1)) + abs(N2(i, 2) + N2(j, 2));
+    const S minus2 = abs(N2(i, 0) - N2(j, 0)) + abs(N2(i, 1) - N2(j, 1)) + abs(N2(i, 2) - N2(j, 2));
+    const S plus1 = abs(N1(0, i) + N1(0, j)) + abs(N1(1, i) + N1(1, j)) + abs(N1(2, i) + N1(2, j));
+    const S minus1 = abs(N1(0, i) - N1(0, j)) + abs(N1(1, i) - N1(1, j)) + abs(N1(2, i) - N1(2, j));
+    const S ci = f.centre2[i], cj = f.centre2[j];
+    const S plus_gap1 = abs(ci + cj - (lo[p] + hi[p]) * scale) - (hi[p] - lo[p]) * scale - plus2;
+    const S minus_gap1 = abs(ci - cj - (lo[p + 3] + hi[p + 3]) * scale) - (hi[p + 3] - lo[p + 3]) * scale - minus2;
+    const S plus_gap2 = abs(e[i] + e[j] - moved2.diagonal_mid[p]) - moved2.diagonal_half[p] - plus1;
+    const S minus_gap2 = abs(e[i] - e[j] - moved2.diagonal_mid[p + 3]) - moved2.diagonal_half[p + 3] - minus1;
+    worst = std::max(worst, std::max(std::max(plus_gap1, minus_gap1), std::max(plus_gap2, minus_gap2)));
   };
   axisPair(0, 0, 1);
   axisPair(1, 0, 2);
   axisPair(2, 1, 2);
-  return !(diagonals.maxCoeff() > S(M_SQRT2) * f.tol);
+  return !(worst > S(M_SQRT2) * f.tol);
 }
 
 /// The exact overlap tests (OverlapTest::kOneSided, kTwoSided), compiled once per variant.
