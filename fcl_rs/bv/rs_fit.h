@@ -177,15 +177,10 @@ public:
     const auto point = [&](int i) -> const fcl::Vector3<S>& { return *points_[std::size_t(i)]; };
     const PrincipalFrame<S> frame = principalFrame<S>(int(points_.size()), point);
     RS<S> bv(frame.axis, frame.mean);
-    if (type_ != fcl::BVH_MODEL_TRIANGLES)
-    {
-      bv.expandPoints(int(points_.size()), point);
-      return bv;
-    }
     // Whether the mesh's triangles share vertices is seen at the root, the first node fitted: where they do not
     // (every corner its own vertex, as some file formats store meshes), listing the distinct ones costs more
     // than it saves.
-    if (sharing_ == Sharing::kUnshared)
+    if (type_ != fcl::BVH_MODEL_TRIANGLES || sharing_ == Sharing::kUnshared)
     {
       bv.expandPoints(int(points_.size()), point);
       return bv;

@@ -201,8 +201,7 @@ ClosestSoFar<W> triangleDistance(const Vec3<W> a[3], const Vec3<W> b[3], W stop)
 template <typename S>
 bool separatedBeyond(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], S tolerance)
 {
-  S size = 0;
-  for (int i = 0; i < 3; ++i) size = std::max({size, p[i].cwiseAbs().maxCoeff(), q[i].cwiseAbs().maxCoeff()});
+  const S size = std::max(largestCoordinate(p), largestCoordinate(q));
   // |fl(a.x) - a.x| <= 3 u |a|_1 |x|_inf per projection; the gap of two, with room to spare.
   const S slack = tolerance + 4 * std::numeric_limits<S>::epsilon() * size;
   const auto separates = [&](const fcl::Vector3<S>& axis) {

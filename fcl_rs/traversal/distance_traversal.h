@@ -16,6 +16,7 @@
 
 #include "fcl_rs/bv/rs.h"
 #include "fcl_rs/bv/rs_fit.h"
+#include "fcl_rs/narrowphase/triangle_intersection.h"
 #include "fcl_rs/traversal/moved_frames.h"
 #include "fcl_rs/traversal/per_query_table.h"
 
@@ -86,9 +87,7 @@ template <typename S>
 bool leafCannotImprove(const fcl::Vector3<S> p[3], const fcl::Vector3<S> q[3], S distance)
 {
   const fcl::Vector3<S> d = (q[0] + q[1] + q[2]) - (p[0] + p[1] + p[2]);
-  const S reach = std::max({p[0].template lpNorm<Eigen::Infinity>(), p[1].template lpNorm<Eigen::Infinity>(),
-                            p[2].template lpNorm<Eigen::Infinity>(), q[0].template lpNorm<Eigen::Infinity>(),
-                            q[1].template lpNorm<Eigen::Infinity>(), q[2].template lpNorm<Eigen::Infinity>()});
+  const S reach = std::max(largestCoordinate(p), largestCoordinate(q));
   const S gap = std::min({d.dot(q[0]), d.dot(q[1]), d.dot(q[2])}) - std::max({d.dot(p[0]), d.dot(p[1]), d.dot(p[2])}) -
                 12 * std::numeric_limits<S>::epsilon() * d.template lpNorm<1>() * reach;
   return gap > 0 && gap * gap >= (1 + 16 * std::numeric_limits<S>::epsilon()) * distance * distance * d.squaredNorm();
