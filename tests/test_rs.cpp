@@ -20,6 +20,11 @@ using test::randomPose;
 using test::randomRotation;
 using test::seededRng;
 
+// Exact references for the pair kernel's rounding.
+using L = long double;
+using VL = Eigen::Matrix<L, 3, 1>;
+using ML = Eigen::Matrix<L, 3, 3>;
+
 /// Volume of the convex hull of pts (qhull), 0 when the points span less than 3 dimensions.
 double hullVolume(const std::vector<Eigen::Vector3d>& pts)
 {
@@ -259,6 +264,71 @@ TYPED_TEST(RSTest, OverlapIsSymmetricAndConservative)
   EXPECT_GT(separated, 100);
 }
 
+// The boxed test is each volume's nine slabs against the other's principal box: recomputed here from the eight
+// box corners mapped exactly (long double, exact inverses of the stored frames), every pair apart along some
+// slab by more than twice the rounding bound is rejected, and every pair the boxes do not separate is kept.
+TYPED_TEST(RSTest, BoxedTestIsTheSlabsAgainstTheOtherBox)
+{
+  using S = TypeParam;
+  auto rng = seededRng("BoxedTestIsTheSlabsAgainstTheOtherBox");
+  int apart = 0, kept = 0, apart_on_diagonal = 0;
+  for (int trial = 0; trial < 2000; ++trial)
+  {
+    const auto a = randomCloud<S>(rng, trial, 8), b = randomCloud<S>(rng, trial + 1, 8);
+    const RS<S> ra = fitPoints<S>(a.data(), int(a.size())), rb = fitPoints<S>(b.data(), int(b.size()));
+    const fcl::Transform3<S> tf = randomPose<S>(rng, S(3));
+    const ML R = tf.linear().template cast<L>();
+    const VL T = tf.translation().template cast<L>();
+    // x1 = to1 * y2 + from1: b2's frame into b1's; the inverse map takes b1's frame into b2's.
+    const ML A1 = ra.axis.template cast<L>(), A2 = rb.axis.template cast<L>();
+    const ML to1 = A1.transpose() * R * A2.inverse().transpose();
+    const VL from1 = A1.transpose() * (R * rb.origin.template cast<L>() + T - ra.origin.template cast<L>());
+    const ML to2 = A2.transpose() * R.inverse() * A1.inverse().transpose();
+    const VL from2 = A2.transpose() * (R.inverse() * (ra.origin.template cast<L>() - T) - rb.origin.template cast<L>());
+    // Largest gap between a face slab (a diagonal slab) of `slabs` and the box of `other` mapped by (to, from).
+    L face_gap = -std::numeric_limits<L>::max(), diagonal_gap = face_gap;
+    const auto slabsAgainstBox = [&](const RS<S>& slabs, const RS<S>& other, const ML& to, const VL& from) {
+      for (int k = 0; k < kNumSlabs; ++k)
+      {
+        const VL dir = detail::slabDirection<double>(k).template cast<L>();
+        L low = std::numeric_limits<L>::max(), high = -std::numeric_limits<L>::max();
+        for (int corner = 0; corner < 8; ++corner)
+        {
+          VL y;
+          for (int i = 0; i < 3; ++i) y[i] = (corner >> i & 1) ? L(other.hi[i]) : L(other.lo[i]);
+          const L v = dir.dot(to * y + from);
+          low = std::min(low, v);
+          high = std::max(high, v);
+        }
+        L& gap = k < 3 ? face_gap : diagonal_gap;
+        gap = std::max(gap, std::max(low - L(slabs.hi[k]), L(slabs.lo[k]) - high));
+      }
+    };
+    slabsAgainstBox(ra, rb, to1, from1);
+    slabsAgainstBox(rb, ra, to2, from2);
+    const fcl::Matrix3<S> rotation = tf.linear();
+    const fcl::Vector3<S> translation = tf.translation();
+    const detail::PairFrame<S> f(rotation, translation, ra, rb);
+    const bool boxed = overlap(rotation, translation, ra, rb, OverlapTest::kBoxed);
+    const L gap = std::max(face_gap, diagonal_gap);
+    if (gap <= 0)
+    {
+      EXPECT_TRUE(boxed) << "trial " << trial << " gap " << double(gap);
+      ++kept;
+    }
+    else if (gap > 2 * L(f.tol))
+    {
+      EXPECT_FALSE(boxed) << "trial " << trial << " gap " << double(gap) << " tol " << double(f.tol);
+      ++apart;
+      apart_on_diagonal += face_gap <= 0;
+    }
+  }
+  EXPECT_GT(kept, 200);
+  EXPECT_GT(apart, 200);
+  EXPECT_GT(apart_on_diagonal, 20);  // some pairs only the diagonals separate
+  std::cout << "kept " << kept << ", apart " << apart << " (" << apart_on_diagonal << " by diagonals only)\n";
+}
+
 TYPED_TEST(RSTest, BoxExcessBoundsTheCornerCutsAndTheFilterIsExact)
 {
   using S = TypeParam;
@@ -311,13 +381,11 @@ TYPED_TEST(RSTest, BoxExcessBoundsTheCornerCutsAndTheFilterIsExact)
 
 // The pair kernel's one rounding bound covers the change of frame: every vertex y2 of b2 (its frame) lands,
 // through the computed M y2 + t, within tol of its exact image in b1's frame (long double, exact inverse of the
-// stored frame), with both volumes and the transform far from the origin.
+// stored frame), and so do the two box centres the boxed test compares, with both volumes and the transform
+// far from the origin.
 TYPED_TEST(RSTest, PairFrameStaysWithinItsRoundingBound)
 {
   using S = TypeParam;
-  using L = long double;
-  using VL = Eigen::Matrix<L, 3, 1>;
-  using ML = Eigen::Matrix<L, 3, 3>;
   auto rng = seededRng("PairFrameStaysWithinItsRoundingBound");
   std::uniform_real_distribution<double> far(-1000, 1000);
   S worst = 0;  // largest error / tol
@@ -337,11 +405,22 @@ TYPED_TEST(RSTest, PairFrameStaysWithinItsRoundingBound)
     {
       const VL x2 = A2_inverse_transpose * y2.template cast<L>() + o2;
       const VL exact = A1.transpose() * (R * x2 + T - o1);
-      const fcl::Vector3<S> computed = f.M * y2 + f.t;
+      const fcl::Vector3<S> computed = f.M * y2 + f.t();
       const S error = S((computed.template cast<L>() - exact).cwiseAbs().maxCoeff());
       ASSERT_LE(error, f.tol) << "trial " << trial;
       worst = std::max(worst, error / f.tol);
     }
+    // The boxed test's two box centres: b2's in b1's frame, and b1's in b2's frame (stored frame A2, exact
+    // inverse of A1 and R).
+    const VL c2 = A2_inverse_transpose * f.box2.c.template cast<L>() + o2;
+    const VL centre2 = A1.transpose() * (R * c2 + T - o1);
+    const VL c1 = A1.inverse().transpose() * f.box1.c.template cast<L>() + o1;
+    const VL centre1 = rb.axis.template cast<L>().transpose() * (R.inverse() * (c1 - T) - o2);
+    const S error2 = S((f.centre2.template cast<L>() - centre2).cwiseAbs().maxCoeff());
+    const S error1 = S((f.centre1().template cast<L>() - centre1).cwiseAbs().maxCoeff());
+    ASSERT_LE(error2, f.tol) << "trial " << trial;
+    ASSERT_LE(error1, f.tol) << "trial " << trial;
+    worst = std::max(worst, std::max(error1, error2) / f.tol);
   }
   std::cout << "largest frame error / rounding bound: " << worst << "\n";
 }

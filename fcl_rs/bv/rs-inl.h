@@ -447,6 +447,7 @@ namespace detail {
 template <typename S>
 struct Box
 {
+  Box() = default;
   explicit Box(const RS<S>& b)
     : c((b.lo.template head<3>() + b.hi.template head<3>()) / 2), h((b.hi.template head<3>() - b.lo.template head<3>()) / 2)
   {
@@ -463,13 +464,24 @@ struct Box
 /// `reaches` the sum of both boxes' reach(). With u = eps:
 ///  - M = A1^T (R A2): two nested 3-term dot products of entries <= 1, plus the stored frames' departure from
 ///    orthonormality (the fits pad for the rounding of A^T x, not for A^-T = A): <= 16u per entry, so a point
-///    y2 of b2 (|y2|_1 <= 3 reach2) moves by <= 48u reach2;
-///  - t = A1^T (R o2 + T - o1): two 3-term products and two sums, <= 8u offsets per coordinate;
-///  (R A2, R o2 + T and |R o2|_1 + |T|_1 are computed once per node and query, MovedFrame, by the same
-///  operations in the same order as per pair, so caching them changes no result and no bound);
-///  - box projections, supports and corner coordinates are sums of <= 6 products of values <= sqrt(2) times
-///    the reaches (|dir| <= 1): <= 12 sqrt(2) u (reach1 + reach2).
-/// First-order total <= 8u offsets + 66u reaches; the bound doubles it at least (higher-order terms, float).
+///    y2 of b2 (|y2|_1 <= 3 reach2) moves by <= 48u reach2, and a vector v by <= 16u |v|_1;
+///  - b2's box centre in b1's frame, A1^T ((R o2 + T) + (R A2) c2 - o1): the translations carry <= 8u offsets
+///    per coordinate, the centre (|c2|_1 <= 3 reach2) <= 40u reach2; d = centre2 - c1 is within
+///    8u offsets + 42u reaches, and so is t = centre2 - M c2 within 8u offsets + 102u reaches;
+///  - face axes of b1 (|d_i| against h1_i + sum_c |M_ic| h2_c, sum_c h2_c <= 3 reach2): <= 8u offsets + 102u
+///    reaches. Face axes of b2 (e = -M^T d, against h2 + sum_r |M_ri| h1_r): they decide a pair only when no axis
+///    of b1 does, so |d|_1 <= 3 reach1 + 3 sqrt(3) reach2 (+ tol), and e carries sqrt(3) times d's error plus
+///    19u |d|_1: <= 14u offsets + 232u reaches with the radius;
+///  - diagonals, compared sqrt(2) times (against sqrt(2) tol): a sum or difference of two of those coordinates,
+///    radii that are L1 norms of sums of two rows or columns of M scaled by the half extents (<= 110u reaches),
+///    slab middles (<= 12u reaches): <= 28u offsets + 466u reaches;
+///  - supports, projections and corner coordinates (exact variants, distance bounds) are sums of <= 6 products
+///    of values <= sqrt(2) times the reaches (|dir| <= 1): <= 12 sqrt(2) u (reach1 + reach2) on top of t or d.
+///  (R A2, R o2 + T, b2's box, its moved centre, its diagonal slabs from the centre and |R o2|_1 + |T|_1 are
+///  computed once per node and query, MovedFrame, by the same operations as per pair.)
+/// First-order total <= 28u offsets + 466u reaches on the diagonals' sqrt(2) scale, <= 14u offsets + 232u
+/// reaches elsewhere; the bound is at least 1.5 times that (sqrt(2) tol = 45u offsets + 724u reaches), and the
+/// rest is of order u^2.
 /// A query between posed objects adds the world frame's rounding to offsets: |t1|_1 + |t2|_1 of the poses.
 /// Contacts are promised for the world-frame vertices as computed, fl(R1 p + t1) and fl(R2 q + t2), each
 /// within u (|R p|_1 + |t|_1) of the exact pose per coordinate, which (R, T) in A's frame never sees: far
@@ -479,56 +491,79 @@ struct Box
 template <typename S>
 S pairRoundingBound(S offsets, S reaches)
 {
-  return 32 * eps<S>() * (offsets + 9 * reaches);
+  return 32 * eps<S>() * (offsets + 16 * reaches);
 }
 
-/// The part of the pair kernel that depends on b2 and the query only: b2's frame moved by (R, T) into b1's model
-/// coordinates. A traversal computes it once per visited node of its second tree and reuses it for every node
-/// of the first tree that node meets; the arithmetic is the same as computing it per pair, bit for bit.
+/// sqrt(2) times the projections of frame coordinates v on the six diagonal slab directions, in kSlabDirections'
+/// order (v_i + v_j, then v_i - v_j, over the axis pairs (0, 1), (0, 2), (1, 2)).
+template <typename Derived>
+Eigen::Array<typename Derived::Scalar, 6, 1> scaledDiagonals(const Eigen::MatrixBase<Derived>& v)
+{
+  Eigen::Array<typename Derived::Scalar, 6, 1> d;
+  d << v[0] + v[1], v[0] + v[2], v[1] + v[2], v[0] - v[1], v[0] - v[2], v[1] - v[2];
+  return d;
+}
+
+/// The part of the pair kernel that depends on b2 and the query only: b2's frame and box centre moved by (R, T)
+/// into b1's model coordinates, and b2's principal box and diagonal slabs measured from the box centre. A
+/// traversal computes it once per visited node of its second tree and reuses it for every node of the first
+/// tree that node meets.
 template <typename S>
 struct MovedFrame
 {
   /// Uninitialised, for arrays filled as a traversal reaches their nodes.
   MovedFrame() = default;
   /// world_offsets: |t1|_1 + |t2|_1 of the query's poses (pairRoundingBound), 0 without poses.
-  MovedFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2, S world_offsets = 0)
+  MovedFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2, S world_offsets = 0) : box(b2)
   {
     const fcl::Vector3<S> o2 = R * b2.origin;
     axis.noalias() = R.lazyProduct(b2.axis);
     origin = o2 + T;
+    centre.noalias() = axis * box.c + origin;
     offsets = o2.template lpNorm<1>() + T.template lpNorm<1>() + world_offsets;
+    reach = box.reach();
+    const S scale = S(M_SQRT1_2);
+    const auto lo = b2.lo.template tail<6>().array(), hi = b2.hi.template tail<6>().array();
+    diagonal_mid = (lo + hi) * scale - scaledDiagonals(box.c);
+    diagonal_half = (hi - lo) * scale;
   }
   fcl::Matrix3<S> axis;    ///< R A2
   fcl::Vector3<S> origin;  ///< R o2 + T
+  Box<S> box;              ///< b2's principal box, in b2's frame
+  fcl::Vector3<S> centre;  ///< the box's centre moved: R (o2 + A2 c2) + T
   S offsets;               ///< |R o2|_1 + |T|_1 (+ world_offsets), the translations' part of pairRoundingBound's offsets
+  S reach;                 ///< box.reach()
+  /// b2's six diagonal slabs from the box centre, times sqrt(2): the middle and the half width of each interval.
+  Eigen::Array<S, 6, 1> diagonal_mid, diagonal_half;
 };
 
-/// The pair kernel: b2 expressed in b1's frame (y1 = M y2 + t), both principal boxes, each box's centre in the
-/// other's frame, and the rounding bound of tests made there.
+/// The pair kernel: b2 expressed in b1's frame (y1 = M y2 + t), both principal boxes, b2's box centre in b1's
+/// frame, and the rounding bound of tests made there.
 template <typename S>
 struct PairFrame
 {
   fcl::Matrix3<S> M;
-  fcl::Vector3<S> t;
   Box<S> box1, box2;
   fcl::Vector3<S> centre2;  ///< b2's box centre in b1's frame
-  fcl::Vector3<S> centre1;  ///< b1's box centre in b2's frame
   S tol;
 
   PairFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2)
-    : PairFrame(MovedFrame<S>(R, T, b2), b1, b2)
+    : PairFrame(MovedFrame<S>(R, T, b2), b1)
   {
   }
 
   /// moved2 = MovedFrame(R, T, b2).
-  PairFrame(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2) : box1(b1), box2(b2)
+  PairFrame(const MovedFrame<S>& moved2, const RS<S>& b1) : box1(b1), box2(moved2.box)
   {
     M.noalias() = b1.axis.transpose().lazyProduct(moved2.axis);
-    t.noalias() = b1.axis.transpose() * (moved2.origin - b1.origin);
-    centre2.noalias() = M * box2.c + t;
-    centre1.noalias() = M.transpose() * (box1.c - t);
-    tol = pairRoundingBound<S>(moved2.offsets + b1.origin.template lpNorm<1>(), box1.reach() + box2.reach());
+    centre2.noalias() = b1.axis.transpose() * (moved2.centre - b1.origin);
+    tol = pairRoundingBound<S>(moved2.offsets + b1.origin.template lpNorm<1>(), box1.reach() + moved2.reach);
   }
+
+  /// b2's frame origin in b1's frame: y1 = M y2 + t maps b2's frame into b1's.
+  fcl::Vector3<S> t() const { return centre2 - M * box2.c; }
+  /// b1's box centre in b2's frame.
+  fcl::Vector3<S> centre1() const { return M.transpose() * (box1.c - centre2) + box2.c; }
 };
 
 /// The vertex of b farthest along dir (both in b's frame): the one support(dir) found.
@@ -577,15 +612,63 @@ S slabGap(S lo, S hi, const RS<S>& b, const Box<S>& box, const ProjectedBox<S>& 
 
 namespace detail {
 
-/// The overlap test, compiled once per variant so that the boxed test carries no exact stage.
-template <OverlapTest test, typename S>
-bool overlapTest(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2)
+/// The boxed test (OverlapTest::kBoxed): each volume's nine slabs against the other's principal box, measured
+/// from the box centres (|middle of the box - middle of the slab| > radius + half width means apart). Each
+/// volume's three face axes come first with one exit (most separated pairs end there, as in an OBB test); the
+/// twelve diagonals, which every overlapping pair reaches, have no branch. They are compared sqrt(2) times (a
+/// diagonal is (u_i +- u_j) / sqrt(2)).
+template <typename S>
+bool boxedOverlap(const MovedFrame<S>& moved2, const RS<S>& b1)
 {
-  const PairFrame<S> f(moved2, b1, b2);
+  using V = fcl::Vector3<S>;
+  const PairFrame<S> f(moved2, b1);
+  const fcl::Matrix3<S>& M = f.M;
+  const V& h1 = f.box1.h;
+  const V& h2 = f.box2.h;
+  // b2's box reaches sum_c |M_ic| h2_c along b1's axis i: the L1 norm of row i of N2 = M diag(h2); b1's box
+  // reaches the L1 norm of column i of N1 = diag(h1) M along b2's axis i.
+  const fcl::Matrix3<S> N2 = M * h2.asDiagonal();
+  const V d = f.centre2 - f.box1.c;  // from b1's box centre to b2's, b1's frame
+  if (((d.cwiseAbs() - N2.cwiseAbs().rowwise().sum() - h1).array() > f.tol).any()) return false;
+  const fcl::Matrix3<S> N1 = h1.asDiagonal() * M;
+  const V e = -(M.transpose() * d);  // from b2's box centre to b1's, b2's frame
+  if (((e.cwiseAbs() - N1.cwiseAbs().colwise().sum().transpose() - h2).array() > f.tol).any()) return false;
+  // Diagonal p over axes (i, j) is slab 3 + p (u_i + u_j) and 6 + p (u_i - u_j). sqrt(2) times a box's reach
+  // along it is the L1 norm of rows i +- j of N2 (b1's diagonal) or of columns i +- j of N1 (b2's). b2's slabs
+  // are measured from its box centre (MovedFrame), b1's from its frame origin, as centre2.
+  const S scale = S(M_SQRT1_2);
+  const S* lo = b1.lo.data() + 3;
+  const S* hi = b1.hi.data() + 3;
+  S worst = -std::numeric_limits<S>::max();
+  // A lambda inlined by force: gcc 12 calls it three times otherwise (about 40 more instructions per test).
+  const auto axisPair = [&](int p, int i, int j) __attribute__((always_inline)) {
+    using std::abs;
+    const S plus2 = abs(N2(i, 0) + N2(j, 0)) + abs(N2(i, 1) + N2(j, 1)) + abs(N2(i, 2) + N2(j, 2));
+    const S minus2 = abs(N2(i, 0) - N2(j, 0)) + abs(N2(i, 1) - N2(j, 1)) + abs(N2(i, 2) - N2(j, 2));
+    const S plus1 = abs(N1(0, i) + N1(0, j)) + abs(N1(1, i) + N1(1, j)) + abs(N1(2, i) + N1(2, j));
+    const S minus1 = abs(N1(0, i) - N1(0, j)) + abs(N1(1, i) - N1(1, j)) + abs(N1(2, i) - N1(2, j));
+    const S ci = f.centre2[i], cj = f.centre2[j];
+    const S plus_gap1 = abs(ci + cj - (lo[p] + hi[p]) * scale) - (hi[p] - lo[p]) * scale - plus2;
+    const S minus_gap1 = abs(ci - cj - (lo[p + 3] + hi[p + 3]) * scale) - (hi[p + 3] - lo[p + 3]) * scale - minus2;
+    const S plus_gap2 = abs(e[i] + e[j] - moved2.diagonal_mid[p]) - moved2.diagonal_half[p] - plus1;
+    const S minus_gap2 = abs(e[i] - e[j] - moved2.diagonal_mid[p + 3]) - moved2.diagonal_half[p + 3] - minus1;
+    worst = std::max(worst, std::max(std::max(plus_gap1, minus_gap1), std::max(plus_gap2, minus_gap2)));
+  };
+  axisPair(0, 0, 1);
+  axisPair(1, 0, 2);
+  axisPair(2, 1, 2);
+  return !(worst > S(M_SQRT2) * f.tol);
+}
+
+/// The exact overlap tests (OverlapTest::kOneSided, kTwoSided), compiled once per variant.
+template <OverlapTest test, typename S>
+bool exactOverlap(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2)
+{
+  const PairFrame<S> f(moved2, b1);
   const fcl::Matrix3<S>& M = f.M;
   const fcl::Vector3<S>& m2 = f.centre2;
-  const fcl::Vector3<S>& m1 = f.centre1;
-  constexpr bool exact_on_1 = test != OverlapTest::kBoxed, exact_on_2 = test == OverlapTest::kTwoSided;
+  const fcl::Vector3<S> m1 = f.centre1();
+  constexpr bool exact_on_2 = test == OverlapTest::kTwoSided;
 
   // Pass 1, boxes only: slab k of b1 (k < 9) or of b2 (k >= 9) against the other's principal box
   // projected on it (mid +- radius). Apart means separated. Otherwise the other polytope's interval
@@ -595,20 +678,17 @@ bool overlapTest(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2)
   // against lo), appended without branches: which sides need work is unpredictable.
   std::uint8_t queued[4 * kNumSlabs + 1];
   int num_queued = 0;
-  const S excess1 = exact_on_1 ? b2.box_excess : S(0), excess2 = exact_on_2 ? b1.box_excess : S(0);
+  const S excess1 = b2.box_excess, excess2 = exact_on_2 ? b1.box_excess : S(0);
   auto boxApart = [&](int k, S mid, S radius) {
     const bool on_1 = k < kNumSlabs;
     const int j = on_1 ? k : k - kNumSlabs;
     const RS<S>& slabs = on_1 ? b1 : b2;
     const S lo = slabs.lo[j] - f.tol, hi = slabs.hi[j] + f.tol;
     const S low = mid - radius, high = mid + radius, excess = on_1 ? excess1 : excess2;
-    if (exact_on_1)
-    {
-      queued[num_queued] = std::uint8_t(2 * k);
-      num_queued += low + excess > hi;
-      queued[num_queued] = std::uint8_t(2 * k + 1);
-      num_queued += high - excess < lo;
-    }
+    queued[num_queued] = std::uint8_t(2 * k);
+    num_queued += low + excess > hi;
+    queued[num_queued] = std::uint8_t(2 * k + 1);
+    num_queued += high - excess < lo;
     return low > hi || high < lo;
   };
 
@@ -654,9 +734,9 @@ bool overlap(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2, Over
   if (b1.empty() || b2.empty()) return false;
   switch (test)
   {
-    case OverlapTest::kOneSided: return overlapTest<OverlapTest::kOneSided>(moved2, b1, b2);
-    case OverlapTest::kBoxed: return overlapTest<OverlapTest::kBoxed>(moved2, b1, b2);
-    default: return overlapTest<OverlapTest::kTwoSided>(moved2, b1, b2);
+    case OverlapTest::kOneSided: return exactOverlap<OverlapTest::kOneSided>(moved2, b1, b2);
+    case OverlapTest::kBoxed: return boxedOverlap(moved2, b1);
+    default: return exactOverlap<OverlapTest::kTwoSided>(moved2, b1, b2);
   }
 }
 
@@ -677,7 +757,7 @@ S distance(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, 
   if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
   const detail::PairFrame<S> f(R, T, b1, b2);
   const detail::ProjectedBox<S> on1(f.M, f.centre2, f.box2);              // b2's box on b1's directions
-  const detail::ProjectedBox<S> on2(f.M.transpose(), f.centre1, f.box1);  // b1's box on b2's directions
+  const detail::ProjectedBox<S> on2(f.M.transpose(), f.centre1(), f.box1);  // b1's box on b2's directions
   S best = -std::numeric_limits<S>::max();
   int best_k = 0;
   for (int k = 0; k < 2 * kNumSlabs; ++k)

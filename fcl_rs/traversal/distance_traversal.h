@@ -40,7 +40,7 @@ S distanceLowerBound(const detail::MovedFrame<S>& moved2, const RS<S>& b1, const
 {
   if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
   using V = fcl::Vector3<S>;
-  const detail::PairFrame<S> f(moved2, b1, b2);
+  const detail::PairFrame<S> f(moved2, b1);
   const fcl::Matrix3<S>& M = f.M;
   S best = 0;
   const auto improve = [&](S g) {
@@ -61,11 +61,12 @@ S distanceLowerBound(const detail::MovedFrame<S>& moved2, const RS<S>& b1, const
   const V n = c / length;
   if (improve(length - h1.dot(n.cwiseAbs()) - h2.dot((M.transpose() * n).cwiseAbs()))) return best;
   // The polytopes, exactly: lowest point of b2 along unit m (b1's frame) minus b1's highest.
-  const auto gap = [&](const V& m) { return m.dot(f.t) - b2.support(-(M.transpose() * m)) - b1.support(m); };
+  const V t = f.t();
+  const auto gap = [&](const V& m) { return m.dot(t) - b2.support(-(M.transpose() * m)) - b1.support(m); };
   // Along n, the supports' corners also give the extreme points for the next direction.
   const detail::SupportCorner<S> on1(b1, n), on2(b2, V(-(M.transpose() * n)));
-  if (improve(n.dot(f.t) - on2.max() - on1.max())) return best;
-  const V between = M * on2.vertex() + f.t - on1.vertex();
+  if (improve(n.dot(t) - on2.max() - on1.max())) return best;
+  const V between = M * on2.vertex() + t - on1.vertex();
   if (between.squaredNorm() > 0) improve(gap(between.normalized()));
   return best;
 }
