@@ -459,7 +459,9 @@ Row newRow(const Context& ctx, const std::string& bv, const std::string& variant
   return r;
 }
 
-/// Adds one pose's counts to the row (sums; divided by the pose counts in finishCounts).
+/// Adds one pose's counts to the row (sums; divided by the pose counts in finishCounts). "BV tests" here are
+/// node pairs reached (QueryStats::num_node_pairs), the BV tests FCL's recursion runs: a tightness count
+/// comparable across types, although RS trees test no pair of two leaves.
 struct Counts
 {
   double bv_all = 0, bv_coll = 0, bv_sep = 0, bv_first = 0, leaf = 0, fp = 0, colliding = 0;
@@ -469,14 +471,14 @@ struct Counts
   void add(const Context& ctx, std::size_t i, const fcl_rs::QueryStats& all, int recorded_tests, int fp_pairs,
            const fcl::CollisionResult<S>& result, const fcl_rs::QueryStats& first)
   {
-    bv_all += all.num_bv_tests;
-    (ctx.colliding[i] ? bv_coll : bv_sep) += all.num_bv_tests;
-    bv_first += first.num_bv_tests;
+    bv_all += all.num_node_pairs;
+    (ctx.colliding[i] ? bv_coll : bv_sep) += all.num_node_pairs;
+    bv_first += first.num_node_pairs;
     leaf += all.num_leaf_tests;
     fp += fp_pairs;
     colliding += result.isCollision();
     disagreements += result.isCollision() != bool(ctx.colliding[i]);
-    mismatched_counts += recorded_tests != all.num_bv_tests;
+    mismatched_counts += recorded_tests != all.num_node_pairs;
   }
   void finish(const Context& ctx, Row& row) const
   {

@@ -29,7 +29,7 @@ QueryStats run(Node& node)
 {
   node.enable_statistics = true;
   fcl::detail::collide(&node);
-  return QueryStats{node.num_bv_tests, node.num_leaf_tests};
+  return QueryStats{node.num_bv_tests, node.num_leaf_tests, node.num_bv_tests};
 }
 
 template <typename S>
@@ -37,7 +37,7 @@ QueryStats run(MeshCollisionTraversalNodeRS<S>& node)
 {
   node.enable_statistics = true;
   collideTrees(node);
-  return QueryStats{node.num_bv_tests, node.num_leaf_tests};
+  return QueryStats{node.num_bv_tests, node.num_leaf_tests, node.num_bv_tests + node.num_leaf_tests};
 }
 
 }  // namespace

@@ -1118,8 +1118,9 @@ TYPED_TEST(CollideStats, EveryBVTypeCountsTestsAndAgrees)
 }
 
 // collideTrees moves each node frame of the second tree once per query (detail::MovedFrames); FCL's recursion
-// over the same node calls the virtual BVTesting, which moves it in every test. Both descend alike, so a stale
-// or misplaced cached frame shows as a different count of tests or a different set of pairs.
+// over the same node calls the virtual BVTesting, which moves it in every test. Both descend alike (collideTrees
+// sends two leaves to the triangle test without a BV test), so a stale or misplaced cached frame shows as a
+// different count of visited pairs or a different set of reported pairs.
 TYPED_TEST(CollideStats, CachedNodeFramesTestWhatFclsRecursionTests)
 {
   using S = TypeParam;
@@ -1138,8 +1139,9 @@ TYPED_TEST(CollideStats, CachedNodeFramesTestWhatFclsRecursionTests)
     cached.enable_statistics = recursion.enable_statistics = true;
     fcl_rs::collideTrees(cached);
     fcl::detail::collide(&recursion);
-    EXPECT_EQ(cached.num_bv_tests, recursion.num_bv_tests) << "pose #" << i;
-    EXPECT_EQ(cached.num_leaf_tests, recursion.num_leaf_tests) << "pose #" << i;
+    // Same pairs visited: the recursion's BV tests of two leaves are collideTrees' leaf tests.
+    EXPECT_EQ(cached.num_bv_tests + cached.num_leaf_tests, recursion.num_bv_tests) << "pose #" << i;
+    EXPECT_GE(cached.num_leaf_tests, recursion.num_leaf_tests) << "pose #" << i;
     EXPECT_TRUE(fcl_rs::test::contactPairs(cached_result) == fcl_rs::test::contactPairs(recursion_result))
         << "pose #" << i;
     colliding += cached_result.isCollision();

@@ -94,6 +94,7 @@ public:
     {
       stats->num_bv_tests += s.num_bv_tests;
       stats->num_leaf_tests += s.num_leaf_tests;
+      stats->num_node_pairs += s.num_node_pairs;
     }
     return result.isCollision();
   }
@@ -144,6 +145,7 @@ public:
     {
       stats->num_bv_tests += node.num_bv_tests;
       stats->num_leaf_tests += node.num_leaf_tests;
+      stats->num_node_pairs += node.num_bv_tests;
     }
     return result.isCollision();
   }
