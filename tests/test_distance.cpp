@@ -366,6 +366,48 @@ TYPED_TEST(DistanceMeshMesh, LeafFilterSkipsOnlyPairsThatCannotImprove)
   EXPECT_GT(skipped_at_half, separated / 2) << skipped_at_half << " of " << separated << " separated pairs skipped";
 }
 
+// The traversal's bound measures its exact gap along the (unnormalised) line through the box centres and divides
+// once: on two single-triangle volumes the bound is at most the triangles' distance (the volumes contain them),
+// near the origin and 1000 away, at node sizes from 1e-3 to 1, and close to it when the triangles face each other.
+TYPED_TEST(DistanceMeshMesh, TraversalBoundOfTriangleVolumesStaysBelowTheirDistance)
+{
+  using S = TypeParam;
+  using V = fcl::Vector3<S>;
+  auto rng = fcl_rs::test::seededRng("distance/traversal-bound/" + scalarName<S>());
+  std::uniform_real_distribution<double> u(-1, 1);
+  const auto point = [&](S scale) -> V { return V(S(u(rng)), S(u(rng)), S(u(rng))) * scale; };
+  int separated = 0, tight = 0;
+  for (int i = 0; i < 2000; ++i)
+  {
+    const S far = i % 2 ? S(0) : S(1000), size = i % 3 == 0 ? S(1e-3) : i % 3 == 1 ? S(0.1) : S(1);
+    const fcl::Matrix3<S> R = fcl_rs::test::randomRotation<S>(rng);
+    const V T = point(far);
+    V p[3], q[3], moved[3];
+    const V base1 = point(far), base2 = R.transpose() * (base1 + point(S(4) * size) - T);
+    for (int k = 0; k < 3; ++k)
+    {
+      p[k] = base1 + point(size);
+      q[k] = base2 + point(size);
+      moved[k] = R * q[k] + T;
+    }
+    const fcl_rs::RS<S> b1 = fcl_rs::fitPoints<S>(p, 3), b2 = fcl_rs::fitPoints<S>(q, 3);
+    V P, Q;
+    const S exact = fcl::detail::TriangleDistance<S>::triDistance(p, moved, P, Q);
+    // FCL's distance of the moved triangles carries the rounding of coordinates of the pair's place.
+    const S slack = 64 * std::numeric_limits<S>::epsilon() * (far + 4 * size);
+    const S bound = fcl_rs::distanceLowerBound<S>(R, T, b1, b2);
+    EXPECT_LE(bound, exact + slack) << "bound " << bound << " above the triangles' distance (pair " << i << ")";
+    EXPECT_LE(fcl_rs::distanceLowerBound<S>(R, T, b1, b2, exact / 2), exact + slack) << "early exit, pair " << i;
+    if (exact > size)
+    {
+      ++separated;
+      tight += bound >= exact / 2;
+    }
+  }
+  // Not vacuous: most clearly separated pairs are bounded within half their distance.
+  EXPECT_GT(tight, separated / 2) << tight << " of " << separated << " separated pairs bounded within half";
+}
+
 /// Every bounded shape FCL measures against a mesh (its mesh-plane/halfspace distance crashes in libccd).
 template <typename S>
 std::vector<std::pair<std::string, std::shared_ptr<fcl::CollisionGeometry<S>>>> shapes()
