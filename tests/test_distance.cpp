@@ -325,6 +325,14 @@ TYPED_TEST(DistanceMeshMesh, ErrorBoundsAreHonoured)
   }
 }
 
+/// A point uniform in [-scale, scale]^3.
+template <typename S, typename Rng>
+fcl::Vector3<S> randomPoint(Rng& rng, S scale)
+{
+  std::uniform_real_distribution<double> u(-1, 1);
+  return fcl::Vector3<S>(S(u(rng)), S(u(rng)), S(u(rng))) * scale;
+}
+
 // The traversal's leaf filter (distance_traversal.h) skips a triangle pair only when its exact distance reaches the
 // given distance, and skips pairs apart along their centroids' line; pairs far from the origin stress its rounding.
 TYPED_TEST(DistanceMeshMesh, LeafFilterSkipsOnlyPairsThatCannotImprove)
@@ -332,8 +340,7 @@ TYPED_TEST(DistanceMeshMesh, LeafFilterSkipsOnlyPairsThatCannotImprove)
   using S = TypeParam;
   using V = fcl::Vector3<S>;
   auto rng = fcl_rs::test::seededRng("distance/leaf-filter/" + scalarName<S>());
-  std::uniform_real_distribution<double> u(-1, 1);
-  const auto point = [&](S scale) -> V { return V(S(u(rng)), S(u(rng)), S(u(rng))) * scale; };
+  const auto point = [&](S scale) { return randomPoint(rng, scale); };
   int separated = 0, skipped_at_half = 0;
   for (int i = 0; i < 4000; ++i)
   {
@@ -374,20 +381,18 @@ TYPED_TEST(DistanceMeshMesh, TraversalBoundOfTriangleVolumesStaysBelowTheirDista
   using S = TypeParam;
   using V = fcl::Vector3<S>;
   auto rng = fcl_rs::test::seededRng("distance/traversal-bound/" + scalarName<S>());
-  std::uniform_real_distribution<double> u(-1, 1);
-  const auto point = [&](S scale) -> V { return V(S(u(rng)), S(u(rng)), S(u(rng))) * scale; };
   int separated = 0, tight = 0;
   for (int i = 0; i < 2000; ++i)
   {
     const S far = i % 2 ? S(0) : S(1000), size = i % 3 == 0 ? S(1e-3) : i % 3 == 1 ? S(0.1) : S(1);
     const fcl::Matrix3<S> R = fcl_rs::test::randomRotation<S>(rng);
-    const V T = point(far);
+    const V T = randomPoint(rng, far);
     V p[3], q[3], moved[3];
-    const V base1 = point(far), base2 = R.transpose() * (base1 + point(S(4) * size) - T);
+    const V base1 = randomPoint(rng, far), base2 = R.transpose() * (base1 + randomPoint(rng, S(4) * size) - T);
     for (int k = 0; k < 3; ++k)
     {
-      p[k] = base1 + point(size);
-      q[k] = base2 + point(size);
+      p[k] = base1 + randomPoint(rng, size);
+      q[k] = base2 + randomPoint(rng, size);
       moved[k] = R * q[k] + T;
     }
     const fcl_rs::RS<S> b1 = fcl_rs::fitPoints<S>(p, 3), b2 = fcl_rs::fitPoints<S>(q, 3);
