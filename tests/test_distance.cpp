@@ -325,6 +325,14 @@ TYPED_TEST(DistanceMeshMesh, ErrorBoundsAreHonoured)
   }
 }
 
+/// A point uniform in [-scale, scale]^3.
+template <typename S, typename Rng>
+fcl::Vector3<S> randomPoint(Rng& rng, S scale)
+{
+  std::uniform_real_distribution<double> u(-1, 1);
+  return fcl::Vector3<S>(S(u(rng)), S(u(rng)), S(u(rng))) * scale;
+}
+
 // The traversal's leaf filter (distance_traversal.h) skips a triangle pair only when its exact distance reaches the
 // given distance, and skips pairs apart along their centroids' line; pairs far from the origin stress its rounding.
 TYPED_TEST(DistanceMeshMesh, LeafFilterSkipsOnlyPairsThatCannotImprove)
@@ -332,8 +340,7 @@ TYPED_TEST(DistanceMeshMesh, LeafFilterSkipsOnlyPairsThatCannotImprove)
   using S = TypeParam;
   using V = fcl::Vector3<S>;
   auto rng = fcl_rs::test::seededRng("distance/leaf-filter/" + scalarName<S>());
-  std::uniform_real_distribution<double> u(-1, 1);
-  const auto point = [&](S scale) -> V { return V(S(u(rng)), S(u(rng)), S(u(rng))) * scale; };
+  const auto point = [&](S scale) { return randomPoint(rng, scale); };
   int separated = 0, skipped_at_half = 0;
   for (int i = 0; i < 4000; ++i)
   {
@@ -364,6 +371,46 @@ TYPED_TEST(DistanceMeshMesh, LeafFilterSkipsOnlyPairsThatCannotImprove)
   }
   // Not vacuous: most separated pairs are at least half their distance apart along the centroids' line.
   EXPECT_GT(skipped_at_half, separated / 2) << skipped_at_half << " of " << separated << " separated pairs skipped";
+}
+
+// The traversal's bound measures its exact gap along the (unnormalised) line through the box centres and divides
+// once: on two single-triangle volumes the bound is at most the triangles' distance (the volumes contain them),
+// near the origin and 1000 away, at node sizes from 1e-3 to 1, and close to it when the triangles face each other.
+TYPED_TEST(DistanceMeshMesh, TraversalBoundOfTriangleVolumesStaysBelowTheirDistance)
+{
+  using S = TypeParam;
+  using V = fcl::Vector3<S>;
+  auto rng = fcl_rs::test::seededRng("distance/traversal-bound/" + scalarName<S>());
+  int separated = 0, tight = 0;
+  for (int i = 0; i < 2000; ++i)
+  {
+    const S far = i % 2 ? S(0) : S(1000), size = i % 3 == 0 ? S(1e-3) : i % 3 == 1 ? S(0.1) : S(1);
+    const fcl::Matrix3<S> R = fcl_rs::test::randomRotation<S>(rng);
+    const V T = randomPoint(rng, far);
+    V p[3], q[3], moved[3];
+    const V base1 = randomPoint(rng, far), base2 = R.transpose() * (base1 + randomPoint(rng, S(4) * size) - T);
+    for (int k = 0; k < 3; ++k)
+    {
+      p[k] = base1 + randomPoint(rng, size);
+      q[k] = base2 + randomPoint(rng, size);
+      moved[k] = R * q[k] + T;
+    }
+    const fcl_rs::RS<S> b1 = fcl_rs::fitPoints<S>(p, 3), b2 = fcl_rs::fitPoints<S>(q, 3);
+    V P, Q;
+    const S exact = fcl::detail::TriangleDistance<S>::triDistance(p, moved, P, Q);
+    // FCL's distance of the moved triangles carries the rounding of coordinates of the pair's place.
+    const S slack = 64 * std::numeric_limits<S>::epsilon() * (far + 4 * size);
+    const S bound = fcl_rs::distanceLowerBound<S>(R, T, b1, b2);
+    EXPECT_LE(bound, exact + slack) << "bound " << bound << " above the triangles' distance (pair " << i << ")";
+    EXPECT_LE(fcl_rs::distanceLowerBound<S>(R, T, b1, b2, exact / 2), exact + slack) << "early exit, pair " << i;
+    if (exact > size)
+    {
+      ++separated;
+      tight += bound >= exact / 2;
+    }
+  }
+  // Not vacuous: most clearly separated pairs are bounded within half their distance.
+  EXPECT_GT(tight, separated / 2) << tight << " of " << separated << " separated pairs bounded within half";
 }
 
 /// Every bounded shape FCL measures against a mesh (its mesh-plane/halfspace distance crashes in libccd).

@@ -23,16 +23,18 @@
 namespace fcl_rs {
 
 /// The distance traversal's lower bound on the distance between RS volumes b1 and b2 (b2 mapped into b1's
-/// coordinates by x1 = R x2 + T). The gap between two convex sets along any unit direction is a lower bound on
-/// their distance (the largest gap is the distance), so the bound is the largest gap over a few directions,
+/// coordinates by x1 = R x2 + T). The gap between two convex sets along any direction, over the direction's
+/// length, is a lower bound on their distance, so the bound is the largest such gap over a few directions,
 /// cheapest first, returning as soon as it reaches `enough` (the traversal prunes the pair then, whatever the
-/// bound): first the principal boxes (which contain the polytopes) along the line through their centres and
-/// their six face normals, a few dozen flops; then, where the boxes are too close to prune, the polytopes'
-/// exact supports along the centre line and along the line through the two volumes' extreme points on it (one
-/// step of a closest-direction iteration: once the nearest features face each other it is the direction of
-/// the distance). Gaps are reduced by their rounding error, so the result never exceeds the true distance.
-/// fcl_rs::distance (all 18 slab directions of both volumes, exact supports) is tighter on a few pairs but
-/// costs more than the BV tests it saves (fcl_rs_bench_distance measured it).
+/// bound): first the principal boxes (which contain the polytopes) along their six face normals, a few dozen
+/// flops; then the polytopes' exact supports along the line c through the two box centres. Supports are
+/// positively homogeneous, so that gap is measured along c itself and divided by |c| once (no unit vector).
+/// Gaps are reduced by their rounding error, so the result never exceeds the true distance: measured along c,
+/// every error of a unit direction's gap is scaled by |c| and then divided by it again, and the quotient adds
+/// a few ulps of the gap, which is at most |c| (well inside pairRoundingBound's margin).
+/// Most bounds only order a pair that is split anyway (docs/kernel.md): a second exact direction (the line
+/// through the extreme vertices found along c, tighter on about half the pairs) and fcl_rs::distance (all 18
+/// slab directions of both volumes) both cost more CPU time than the BV and triangle tests they save.
 /// moved2 = detail::MovedFrame(R, T, b2) (the overload below builds it; traversals move each node once).
 template <typename S>
 S distanceLowerBound(const detail::MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2,
@@ -42,33 +44,22 @@ S distanceLowerBound(const detail::MovedFrame<S>& moved2, const RS<S>& b1, const
   using V = fcl::Vector3<S>;
   const detail::PairFrame<S> f(moved2, b1);
   const fcl::Matrix3<S>& M = f.M;
-  S best = 0;
-  const auto improve = [&](S g) {
-    best = std::max(best, g - f.tol);
-    return best >= enough;
-  };
-  // Principal boxes in b1's frame: half extents, and the vector c from b1's centre to b2's.
+  // Principal boxes: half extents, and the vector from b1's box centre to b2's in b1's frame (c) and b2's (c2).
   const V& h1 = f.box1.h;
   const V& h2 = f.box2.h;
   const V c = f.centre2 - f.box1.c;
+  const V c2 = M.transpose() * c;
   const fcl::Matrix3<S> A = M.cwiseAbs();
   // Box gaps along b1's axes (b2's box reaches h2 . |row i of M| along axis i) and b2's axes.
   const V gaps1 = c.cwiseAbs() - h1 - A * h2;
-  const V gaps2 = (M.transpose() * c).cwiseAbs() - A.transpose() * h1 - h2;
-  if (improve(std::max(gaps1.maxCoeff(), gaps2.maxCoeff()))) return best;
-  const S length = c.norm();
-  if (!(length > 0)) return best;
-  const V n = c / length;
-  if (improve(length - h1.dot(n.cwiseAbs()) - h2.dot((M.transpose() * n).cwiseAbs()))) return best;
-  // The polytopes, exactly: lowest point of b2 along unit m (b1's frame) minus b1's highest.
-  const V t = f.t();
-  const auto gap = [&](const V& m) { return m.dot(t) - b2.support(-(M.transpose() * m)) - b1.support(m); };
-  // Along n, the supports' corners also give the extreme points for the next direction.
-  const detail::SupportCorner<S> on1(b1, n), on2(b2, V(-(M.transpose() * n)));
-  if (improve(n.dot(t) - on2.max() - on1.max())) return best;
-  const V between = M * on2.vertex() + t - on1.vertex();
-  if (between.squaredNorm() > 0) improve(gap(between.normalized()));
-  return best;
+  const V gaps2 = c2.cwiseAbs() - A.transpose() * h1 - h2;
+  const S boxes = std::max(gaps1.maxCoeff(), gaps2.maxCoeff()) - f.tol;
+  if (boxes >= enough) return boxes;
+  const S squared_length = c.squaredNorm();
+  if (!(squared_length > 0)) return std::max(boxes, S(0));
+  // The polytopes, exactly, along c: b2's lowest point minus b1's highest, times |c|.
+  const S along = c.dot(f.t()) - detail::SupportCorner<S>(b2, V(-c2)).max() - detail::SupportCorner<S>(b1, c).max();
+  return std::max({boxes, along / std::sqrt(squared_length) - f.tol, S(0)});
 }
 
 /// distanceLowerBound for b2 mapped into b1's coordinates by x1 = R x2 + T.
