@@ -27,8 +27,7 @@ public:
     upper_.resize(robot.numVariables());
     for (const RobotJoint& j : robot.joints)
     {
-      joints_.push_back(Joint{j.type, j.parent_link, j.child_link, j.origin.cast<S>(), j.axis.cast<S>(),
-                              j.variable >= 0 ? j.variable : j.mimic_variable, S(j.multiplier), S(j.offset)});
+      joints_.push_back(makeJoint(j));
       if (j.variable < 0) continue;
       // Continuous joints have no limits; one turn either way covers every pose.
       const bool continuous = j.type == JointType::kContinuous;
@@ -60,14 +59,22 @@ public:
     if (num_links_ > 0) poses[0].setIdentity();
     for (const Joint& j : joints_)
     {
+      // The joint's transform in its parent's frame, then one rotation and one translation into the root frame.
+      fcl::Matrix3<S> linear = j.linear;
+      fcl::Vector3<S> translation = j.translation;
+      if (j.variable >= 0)
+      {
+        const S value = j.multiplier * q[j.variable] + j.offset;
+        if (j.type == JointType::kPrismatic)
+          translation += j.slide * value;
+        else
+          linear += std::cos(value) * j.cos_part + std::sin(value) * j.sin_part;
+      }
+      const fcl::Transform3<S>& parent = poses[j.parent];
       fcl::Transform3<S>& pose = poses[j.child];
-      pose = poses[j.parent] * j.origin;
-      if (j.variable < 0) continue;
-      const S value = j.multiplier * q[j.variable] + j.offset;
-      if (j.type == JointType::kPrismatic)
-        pose.translation() += pose.linear() * (j.axis * value);
-      else
-        pose.linear() = pose.linear() * Eigen::AngleAxis<S>(value, j.axis).toRotationMatrix();
+      pose.linear().noalias() = parent.linear() * linear;
+      pose.translation().noalias() = parent.linear() * translation;
+      pose.translation() += parent.translation();
     }
   }
 
@@ -92,16 +99,46 @@ public:
   }
 
 private:
+  /// A joint with its origin O folded into the motion, so that a pose costs one rotation product. The child's
+  /// frame in the parent's is O for a fixed joint, O * Translation(axis * v) for a prismatic one: linear O.R,
+  /// translation O.t + slide v. For a revolute joint it is O * Rotation(axis, v), by Rodrigues' formula:
+  /// linear + cos(v) cos_part + sin(v) sin_part, translation O.t.
   struct Joint
   {
     JointType type;
     int parent, child;
-    fcl::Transform3<S> origin;
-    fcl::Vector3<S> axis;
     int variable;  ///< own variable, the leader's for a mimic joint, -1 for fixed joints
     S multiplier, offset;
-    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+    fcl::Matrix3<S> linear;  ///< O.R, or O.R a a^T for a revolute joint
+    fcl::Vector3<S> translation;  ///< O.t
+    fcl::Matrix3<S> cos_part, sin_part;  ///< O.R (I - a a^T) and O.R [a]x (revolute joints)
+    fcl::Vector3<S> slide;  ///< O.R a (prismatic joints)
   };
+
+  /// The joint's parts, computed in double (the model's precision) and rounded once to S.
+  static Joint makeJoint(const RobotJoint& j)
+  {
+    const fcl::Matrix3d& R = j.origin.linear();
+    const fcl::Vector3d& a = j.axis;
+    const bool revolute = j.type == JointType::kRevolute || j.type == JointType::kContinuous;
+    fcl::Matrix3d cross;
+    cross << 0, -a[2], a[1], a[2], 0, -a[0], -a[1], a[0], 0;
+    const fcl::Matrix3d along = R * (a * a.transpose());
+    Joint joint;
+    joint.type = j.type;
+    joint.parent = j.parent_link;
+    joint.child = j.child_link;
+    joint.variable = j.variable >= 0 ? j.variable : j.mimic_variable;
+    joint.multiplier = S(j.multiplier);
+    joint.offset = S(j.offset);
+    joint.linear = (revolute ? along : R).cast<S>();
+    joint.translation = j.origin.translation().cast<S>();
+    joint.cos_part = (R - along).cast<S>();
+    joint.sin_part = (R * cross).cast<S>();
+    joint.slide = (R * a).cast<S>();
+    return joint;
+  }
+
   int num_links_;
   std::vector<Joint> joints_;
   fcl::VectorX<S> lower_, upper_;

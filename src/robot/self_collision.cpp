@@ -253,23 +253,55 @@ struct SelfCollision<S>::Impl
     S radius = 0;
   };
 
+  /// A link's bounding sphere in the root frame, its radius grown by a rounding pad.
+  struct WorldSphere
+  {
+    fcl::Vector3<S> centre;
+    S reach;
+  };
+  /// What a check computes once per configuration: the link poses and the links' spheres at those poses (a
+  /// link takes part in several pairs).
+  struct Placement
+  {
+    std::vector<Tf<S>> poses;
+    std::vector<WorldSphere> spheres;
+  };
+
   Impl(const RobotModel& robot, BVType bv_type) : bv(bv_type), kinematics(robot) {}
 
-  /// Distance between the links' bounding spheres minus a rounding pad: never more than the geometries'.
-  S sphereGap(const std::vector<Tf<S>>& poses, int a, int b) const
+  /// Fills p.spheres from p.poses. The pad, 1e-5 of the radius and of the centre's distance from the root,
+  /// covers the rounding of moving the centres and of comparing their distance, so the gap between two spheres
+  /// is never more than the geometries'.
+  void placeSpheres(Placement& p) const
   {
-    const fcl::Vector3<S> ca = poses[a] * links[a].center, cb = poses[b] * links[b].center;
-    const S radii = links[a].radius + links[b].radius;
-    return (ca - cb).norm() - radii - S(1e-5) * (radii + ca.norm() + cb.norm());
+    p.spheres.resize(links.size());
+    for (std::size_t i = 0; i < links.size(); ++i)
+    {
+      const fcl::Vector3<S> centre = p.poses[i] * links[i].center;
+      p.spheres[i] = {centre, links[i].radius + S(1e-5) * (links[i].radius + centre.norm())};
+    }
   }
 
-  bool collides(const std::vector<Tf<S>>& poses, int a, int b, QueryStats* stats) const
+  /// Distance between the links' padded bounding spheres: never more than the geometries'.
+  static S sphereGap(const Placement& p, int a, int b)
   {
+    return (p.spheres[a].centre - p.spheres[b].centre).norm() - p.spheres[a].reach - p.spheres[b].reach;
+  }
+
+  /// sphereGap(p, a, b) > 0, without the square root.
+  static bool spheresApart(const Placement& p, int a, int b)
+  {
+    const S reach = p.spheres[a].reach + p.spheres[b].reach;
+    return (p.spheres[a].centre - p.spheres[b].centre).squaredNorm() > reach * reach;
+  }
+
+  bool collides(const Placement& placement, int a, int b, QueryStats* stats) const
+  {
+    if (spheresApart(placement, a, b)) return false;
     const Link& la = links[a];
     const Link& lb = links[b];
-    const Tf<S>& ta = poses[a];
-    const Tf<S>& tb = poses[b];
-    if (sphereGap(poses, a, b) > 0) return false;
+    const Tf<S>& ta = placement.poses[a];
+    const Tf<S>& tb = placement.poses[b];
 
     if (la.has_mesh && lb.has_mesh && trees->meshMesh(a, ta, b, tb, request, stats)) return true;
     if (la.has_mesh)
@@ -288,13 +320,14 @@ struct SelfCollision<S>::Impl
     return false;
   }
 
-  /// Tests the pair list at `poses`.
-  std::vector<LinkPair> testPairs(const std::vector<Tf<S>>& poses, QueryStats* stats, bool stop_at_first) const
+  /// Places the spheres at placement.poses and tests the pair list.
+  std::vector<LinkPair> testPairs(Placement& placement, QueryStats* stats, bool stop_at_first) const
   {
-    trees->setPoses(poses);
+    placeSpheres(placement);
+    trees->setPoses(placement.poses);
     std::vector<LinkPair> colliding;
     for (const LinkPair& p : pairs)
-      if (collides(poses, p.first, p.second, stats))
+      if (collides(placement, p.first, p.second, stats))
       {
         colliding.push_back(p);
         if (stop_at_first) break;
@@ -324,11 +357,12 @@ struct SelfCollision<S>::Impl
 
   /// Minimum distance over the pair list of a collision-free configuration. Pairs whose spheres are farther
   /// apart than the best distance so far cannot lower it; the pair order is fixed, so the result is too.
-  S minimumDistance(const std::vector<Tf<S>>& poses) const
+  S minimumDistance(const Placement& placement) const
   {
     S best = std::numeric_limits<S>::infinity();
     for (const LinkPair& p : pairs)
-      if (sphereGap(poses, p.first, p.second) < best) best = linkDistance(poses, p.first, p.second, best);
+      if (sphereGap(placement, p.first, p.second) < best)
+        best = linkDistance(placement.poses, p.first, p.second, best);
     return best;
   }
 
@@ -338,7 +372,7 @@ struct SelfCollision<S>::Impl
   std::vector<Link> links;
   std::vector<LinkPair> pairs;
   std::unique_ptr<MeshTrees<S>> trees;
-  std::vector<Tf<S>> poses;  ///< scratch of the non-const checks
+  Placement placement;  ///< scratch of the non-const checks
   fcl::CollisionRequest<S> request{/*num_max_contacts=*/1, /*enable_contact=*/false};
 };
 
@@ -447,8 +481,8 @@ const std::vector<LinkPair>& SelfCollision<S>::pairs() const
 template <typename S>
 std::vector<LinkPair> SelfCollision<S>::check(const fcl::VectorX<S>& q, QueryStats* stats)
 {
-  impl_->kinematics.linkPoses(q, impl_->poses);
-  return impl_->testPairs(impl_->poses, stats, /*stop_at_first=*/false);
+  impl_->kinematics.linkPoses(q, impl_->placement.poses);
+  return impl_->testPairs(impl_->placement, stats, /*stop_at_first=*/false);
 }
 
 template <typename S>
@@ -457,15 +491,15 @@ std::vector<LinkPair> SelfCollision<S>::checkPoses(const std::vector<fcl::Transf
   if (poses.size() != impl_->links.size())
     throw std::invalid_argument("fcl_rs::SelfCollision: " + std::to_string(poses.size()) + " poses for " +
                                 std::to_string(impl_->links.size()) + " links");
-  impl_->poses = poses;
-  return impl_->testPairs(impl_->poses, stats, /*stop_at_first=*/false);
+  impl_->placement.poses = poses;
+  return impl_->testPairs(impl_->placement, stats, /*stop_at_first=*/false);
 }
 
 template <typename S>
 bool SelfCollision<S>::inCollision(const fcl::VectorX<S>& q)
 {
-  impl_->kinematics.linkPoses(q, impl_->poses);
-  return !impl_->testPairs(impl_->poses, nullptr, /*stop_at_first=*/true).empty();
+  impl_->kinematics.linkPoses(q, impl_->placement.poses);
+  return !impl_->testPairs(impl_->placement, nullptr, /*stop_at_first=*/true).empty();
 }
 
 template <typename S>
@@ -477,13 +511,14 @@ SelfCheckResult<S> SelfCollision<S>::query(const fcl::VectorX<S>& q, const SelfC
   if (request.minimum_distance && impl_->bv == BVType::kOBB)
     throw std::invalid_argument("fcl_rs::SelfCollision::query: FCL has no distance query for OBB trees; "
                                 "use RS, OBBRSS or RSS for minimum distances");
-  std::vector<Tf<S>> poses;
-  impl_->kinematics.linkPoses(q, poses);
+  typename Impl::Placement placement;
+  impl_->kinematics.linkPoses(q, placement.poses);
   SelfCheckResult<S> result;
-  result.pairs = impl_->testPairs(poses, nullptr, /*stop_at_first=*/!request.colliding_pairs);
+  result.pairs = impl_->testPairs(placement, nullptr, /*stop_at_first=*/!request.colliding_pairs);
   result.colliding = !result.pairs.empty();
   if (!request.colliding_pairs) result.pairs.clear();
-  if (request.minimum_distance) result.minimum_distance = result.colliding ? S(0) : impl_->minimumDistance(poses);
+  if (request.minimum_distance)
+    result.minimum_distance = result.colliding ? S(0) : impl_->minimumDistance(placement);
   return result;
 }
 
