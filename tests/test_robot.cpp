@@ -257,6 +257,44 @@ TYPED_TEST(Kinematic, MatchesHandComputedPoses)
   EXPECT_THROW(kin.linkPoses(bad), std::invalid_argument);
 }
 
+/// Kinematics folds each joint's origin into its motion (Rodrigues' formula); composing the URDF's values joint
+/// by joint (origin, then a rotation about or a slide along the axis) in double must give the same poses.
+TYPED_TEST(Kinematic, MatchesJointByJointComposition)
+{
+  using S = TypeParam;
+  std::vector<const RobotModel*> robots;
+  const RobotModel testbot = loadUrdf(writeTestbot());
+  robots.push_back(&testbot);
+  for (const char* name : {"panda", "ur5"})
+    if (const RobotModel* r = sharedRobot(name)) robots.push_back(r);
+  const double tol = std::is_same<S, float>::value ? 1e-5 : 1e-13;
+  for (const RobotModel* robot : robots)
+  {
+    const Kinematics<S> kin(*robot);
+    auto rng = test::seededRng("MatchesJointByJointComposition " + robot->name);
+    for (int i = 0; i < 100; ++i)
+    {
+      const fcl::VectorX<S> q = kin.randomConfiguration(rng);
+      const auto poses = kin.linkPoses(q);
+      std::vector<fcl::Transform3d> expected(robot->links.size(), fcl::Transform3d::Identity());
+      for (const RobotJoint& j : robot->joints)
+      {
+        const int v = j.variable >= 0 ? j.variable : j.mimic_variable;
+        const double value = v < 0 ? 0 : j.multiplier * double(q[v]) + j.offset;
+        fcl::Transform3d motion = fcl::Transform3d::Identity();
+        if (j.type == JointType::kPrismatic)
+          motion.translation() = j.axis * value;
+        else if (j.type != JointType::kFixed)
+          motion.linear() = Eigen::AngleAxisd(value, j.axis).toRotationMatrix();
+        expected[j.child_link] = expected[j.parent_link] * j.origin * motion;
+      }
+      for (std::size_t k = 0; k < poses.size(); ++k)
+        ASSERT_LT((poses[k].matrix().template cast<double>() - expected[k].matrix()).cwiseAbs().maxCoeff(), tol)
+            << robot->name << " link " << robot->links[k].name << " at q = " << q.transpose();
+    }
+  }
+}
+
 TYPED_TEST(Kinematic, RandomConfigurationsRespectLimits)
 {
   using S = TypeParam;

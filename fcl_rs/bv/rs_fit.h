@@ -45,22 +45,35 @@ RS<S> slabRS(const fcl::Vector3<S>& n, S lower, S upper)
   return bv;
 }
 
+/// bv, the RS of a box, sphere, ellipsoid, capsule or cylinder in the shape's own frame (fcl::computeBV with the
+/// identity), placed at tf: the frame moved and the slabs padded for tf's rounding. The same volume as computeBV
+/// with tf, without a refit, so a shape queried at many poses is fitted once. box_excess stays the unpadded
+/// volume's: it only decides where exact overlap tests compute supports, never their answer.
+template <typename S>
+RS<S> placeShapeRS(const RS<S>& bv, const fcl::Transform3<S>& tf)
+{
+  RS<S> placed = transform(bv, tf);
+  // Points of the shape reach the frame through tf's rounding: a few ulps of their magnitude.
+  const S pad = 8 * std::numeric_limits<S>::epsilon() * tf.translation().template lpNorm<1>();
+  placed.lo.array() -= pad;
+  placed.hi.array() += pad;
+  return placed;
+}
+
 /// RS of a shape symmetric about the origin of its frame tf, in that frame, from its support
 /// function (unit direction in the shape's frame -> extent). Exact and cheap, where FCL's generic
 /// path fits a PCA frame to bound vertices at every mesh-shape query.
 template <typename S, typename Support>
 RS<S> symmetricShapeRS(const fcl::Transform3<S>& tf, Support support)
 {
-  RS<S> bv(tf.linear(), tf.translation());
-  // Points of the shape reach the frame through tf's rounding: a few ulps of their magnitude.
-  const S pad = 8 * std::numeric_limits<S>::epsilon() * tf.translation().template lpNorm<1>();
+  RS<S> bv;  // the identity frame
   for (int k = 0; k < kNumSlabs; ++k)
   {
-    bv.hi[k] = support(detail::slabDirection<S>(k)) * (1 + 8 * std::numeric_limits<S>::epsilon()) + pad;
+    bv.hi[k] = support(detail::slabDirection<S>(k)) * (1 + 8 * std::numeric_limits<S>::epsilon());
     bv.lo[k] = -bv.hi[k];
   }
   bv.updateBoxExcess();
-  return bv;
+  return placeShapeRS(bv, tf);
 }
 
 /// The principal box of bv as an FCL Box and its pose (FCL's approximate-cost path needs it).

@@ -3,6 +3,7 @@
 #define FCL_RS_TRAVERSAL_H
 
 #include <cstddef>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -141,6 +142,12 @@ public:
     fcl::computeBV(shape, shape_in_mesh, bv_);
     moved_ = detail::MovedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_);
   }
+  /// From the shape's RS fitted in its own frame (placeShapeRS), for a shape queried many times.
+  ShapeBound(const RS<S>& bv_in_shape, const fcl::Transform3<S>& shape_in_mesh)
+    : bv_(placeShapeRS(bv_in_shape, shape_in_mesh)),
+      moved_(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_)
+  {
+  }
   /// node.overlap(bv_), with bv_'s frame moved once per query.
   bool overlaps(const RS<S>& node) const { return detail::overlap(moved_, node, bv_, kDefaultOverlapTest); }
 
@@ -221,12 +228,16 @@ public:
   std::unique_ptr<ShapeBound<S, Shape>> bound;
 };
 
+/// Sets up node for the mesh model1 at tf1 against the shape model2 at tf2; false unless model1 is a triangle
+/// mesh. bound: model2's bound in model1's frame when the caller made it (a shape queried many times is fitted
+/// once, ShapeBound's RS constructor), or nullptr to fit it here.
 template <typename Shape, typename NarrowPhaseSolver>
 bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& node,
                 const fcl::BVHModel<RS<typename Shape::S>>& model1, const fcl::Transform3<typename Shape::S>& tf1,
                 const Shape& model2, const fcl::Transform3<typename Shape::S>& tf2,
                 const NarrowPhaseSolver* nsolver, const fcl::CollisionRequest<typename Shape::S>& request,
-                fcl::CollisionResult<typename Shape::S>& result)
+                fcl::CollisionResult<typename Shape::S>& result,
+                std::unique_ptr<ShapeBound<typename Shape::S, Shape>> bound = nullptr)
 {
   if (model1.getModelType() != fcl::BVH_MODEL_TRIANGLES) return false;
   node.model1 = &model1;
@@ -239,7 +250,8 @@ bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& nod
   node.request = request;
   node.result = &result;
   node.cost_density = model1.cost_density * model2.cost_density;
-  node.bound.reset(new ShapeBound<typename Shape::S, Shape>(model2, tf1.inverse(Eigen::Isometry) * tf2));
+  node.bound = bound ? std::move(bound)
+                     : std::make_unique<ShapeBound<typename Shape::S, Shape>>(model2, tf1.inverse(Eigen::Isometry) * tf2);
   return true;
 }
 

@@ -6,8 +6,10 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <set>
 #include <stdexcept>
+#include <type_traits>
 
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/cylinder.h>
@@ -24,6 +26,8 @@
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/distance.h"
+#include "fcl_rs/fcl_float.h"
+#include "fcl_rs/traversal/collision_traversal.h"
 
 namespace fcl_rs {
 
@@ -58,6 +62,15 @@ namespace {
 template <typename S>
 using Tf = fcl::Transform3<S>;
 
+/// A box, cylinder or sphere element of a link.
+template <typename S>
+struct LinkShape
+{
+  std::shared_ptr<fcl::CollisionGeometry<S>> geometry;
+  Tf<S> origin;  ///< in the link frame
+  RS<S> bv;      ///< its RS in its own frame, fitted once (RS checks place it per query instead of refitting)
+};
+
 /// The mesh trees of all links for one BV type, and the mesh-mesh and mesh-shape tests on them.
 template <typename S>
 class MeshTrees
@@ -68,7 +81,7 @@ public:
   virtual void setPoses(const std::vector<Tf<S>>& /*poses*/) const {}
   virtual bool meshMesh(int a, const Tf<S>& ta, int b, const Tf<S>& tb, const fcl::CollisionRequest<S>& request,
                         QueryStats* stats) const = 0;
-  virtual bool meshShape(int a, const Tf<S>& ta, const fcl::CollisionGeometry<S>& shape, const Tf<S>& ts,
+  virtual bool meshShape(int a, const Tf<S>& ta, const LinkShape<S>& shape, const Tf<S>& ts,
                          const fcl::CollisionRequest<S>& request) const = 0;
   /// The link's tree in its own frame, queried read-only; nullptr when the trees are updated per check.
   virtual const fcl::CollisionGeometry<S>* localModel(int link) const = 0;
@@ -98,15 +111,45 @@ public:
     }
     return result.isCollision();
   }
-  bool meshShape(int a, const Tf<S>& ta, const fcl::CollisionGeometry<S>& shape, const Tf<S>& ts,
+  /// FCL's types through fcl::collide; RS through its traversal node directly, the shape's RS placed rather
+  /// than refitted (what fcl_rs::collide does otherwise, after finding the types).
+  bool meshShape(int a, const Tf<S>& ta, const LinkShape<S>& shape, const Tf<S>& ts,
                  const fcl::CollisionRequest<S>& request) const override
   {
-    fcl::CollisionResult<S> result;
-    return fcl_rs::collide(models_[a].get(), ta, &shape, ts, request, result) > 0;
+    if constexpr (std::is_same<BV, RS<S>>::value)
+    {
+      switch (shape.geometry->getNodeType())
+      {
+        case fcl::GEOM_BOX: return meshShapeRS<fcl::Box<S>>(a, ta, shape, ts, request);
+        case fcl::GEOM_CYLINDER: return meshShapeRS<fcl::Cylinder<S>>(a, ta, shape, ts, request);
+        case fcl::GEOM_SPHERE: return meshShapeRS<fcl::Sphere<S>>(a, ta, shape, ts, request);
+        default: throw std::logic_error("fcl_rs::SelfCollision: a link shape is not a box, cylinder or sphere");
+      }
+    }
+    else
+    {
+      fcl::CollisionResult<S> result;
+      return fcl::collide(models_[a].get(), ta, shape.geometry.get(), ts, request, result) > 0;
+    }
   }
   const fcl::CollisionGeometry<S>* localModel(int link) const override { return models_[link].get(); }
 
 private:
+  template <typename Shape>
+  bool meshShapeRS(int a, const Tf<S>& ta, const LinkShape<S>& shape, const Tf<S>& ts,
+                   const fcl::CollisionRequest<S>& request) const
+  {
+    using Solver = fcl::detail::GJKSolver_libccd<S>;
+    Solver solver;
+    solver.collision_tolerance = request.gjk_tolerance;
+    MeshShapeCollisionTraversalNodeRS<Shape, Solver> node;
+    fcl::CollisionResult<S> result;
+    initialize(node, *models_[a], ta, static_cast<const Shape&>(*shape.geometry), ts, &solver, request, result,
+               std::make_unique<ShapeBound<S, Shape>>(shape.bv, ta.inverse(Eigen::Isometry) * ts));
+    fcl::detail::collide(&node);
+    return result.isCollision();
+  }
+
   std::vector<std::shared_ptr<fcl::BVHModel<BV>>> models_;
 };
 
@@ -149,9 +192,10 @@ public:
     }
     return result.isCollision();
   }
-  bool meshShape(int a, const Tf<S>&, const fcl::CollisionGeometry<S>& shape, const Tf<S>& ts,
+  bool meshShape(int a, const Tf<S>&, const LinkShape<S>& link_shape, const Tf<S>& ts,
                  const fcl::CollisionRequest<S>& request) const override
   {
+    const fcl::CollisionGeometry<S>& shape = *link_shape.geometry;
     switch (shape.getNodeType())
     {
       case fcl::GEOM_BOX: return meshShapeOf(a, static_cast<const fcl::Box<S>&>(shape), ts, request);
@@ -209,18 +253,25 @@ std::unique_ptr<MeshTrees<S>> makeTrees(BVType bv, const std::vector<TriangleMes
   throw std::invalid_argument("fcl_rs::SelfCollision: unknown BV type");
 }
 
-template <typename S>
-std::shared_ptr<fcl::CollisionGeometry<S>> makeShape(const Primitive& p)
+template <typename S, typename Shape>
+LinkShape<S> makeShape(const Shape& shape, const Primitive& p)
 {
-  std::shared_ptr<fcl::CollisionGeometry<S>> shape;
+  LinkShape<S> made{std::make_shared<Shape>(shape), p.origin.template cast<S>(), RS<S>()};
+  made.geometry->computeLocalAABB();
+  fcl::computeBV(shape, Tf<S>::Identity(), made.bv);
+  return made;
+}
+
+template <typename S>
+LinkShape<S> makeShape(const Primitive& p)
+{
   switch (p.type)
   {
-    case Primitive::Type::kBox: shape = std::make_shared<fcl::Box<S>>(p.size.cast<S>()); break;
-    case Primitive::Type::kCylinder: shape = std::make_shared<fcl::Cylinder<S>>(S(p.size[0]), S(p.size[1])); break;
-    case Primitive::Type::kSphere: shape = std::make_shared<fcl::Sphere<S>>(S(p.size[0])); break;
+    case Primitive::Type::kBox: return makeShape<S>(fcl::Box<S>(p.size.cast<S>()), p);
+    case Primitive::Type::kCylinder: return makeShape<S>(fcl::Cylinder<S>(S(p.size[0]), S(p.size[1])), p);
+    case Primitive::Type::kSphere: return makeShape<S>(fcl::Sphere<S>(S(p.size[0])), p);
   }
-  shape->computeLocalAABB();
-  return shape;
+  throw std::logic_error("fcl_rs::SelfCollision: unknown primitive type");
 }
 
 /// Radius of a ball about the primitive's origin that holds it.
@@ -240,11 +291,7 @@ double primitiveRadius(const Primitive& p)
 template <typename S>
 struct SelfCollision<S>::Impl
 {
-  struct Shape
-  {
-    std::shared_ptr<fcl::CollisionGeometry<S>> geometry;
-    Tf<S> origin;
-  };
+  using Shape = LinkShape<S>;
   struct Link
   {
     bool has_mesh = false;
@@ -306,10 +353,10 @@ struct SelfCollision<S>::Impl
     if (la.has_mesh && lb.has_mesh && trees->meshMesh(a, ta, b, tb, request, stats)) return true;
     if (la.has_mesh)
       for (const Shape& s : lb.shapes)
-        if (trees->meshShape(a, ta, *s.geometry, tb * s.origin, request)) return true;
+        if (trees->meshShape(a, ta, s, tb * s.origin, request)) return true;
     if (lb.has_mesh)
       for (const Shape& s : la.shapes)
-        if (trees->meshShape(b, tb, *s.geometry, ta * s.origin, request)) return true;
+        if (trees->meshShape(b, tb, s, ta * s.origin, request)) return true;
     for (const Shape& sa : la.shapes)
       for (const Shape& sb : lb.shapes)
       {
@@ -402,7 +449,7 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       const double r = primitiveRadius(p);
       lo = lo.cwiseMin(p.origin.translation() - fcl::Vector3d::Constant(r));
       hi = hi.cwiseMax(p.origin.translation() + fcl::Vector3d::Constant(r));
-      link.shapes.push_back({makeShape<S>(p), p.origin.template cast<S>()});
+      link.shapes.push_back(makeShape<S>(p));
     }
     if (!src.hasGeometry()) continue;
     const fcl::Vector3d c = 0.5 * (lo + hi);
