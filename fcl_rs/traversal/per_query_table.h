@@ -15,8 +15,12 @@ namespace detail {
 /// lifetime (one query). The storage belongs to the calling thread and survives the query: a fresh array per query
 /// cost an allocation and a pass clearing its flags (a first-contact query visits a few dozen of a model's
 /// thousands of nodes), and past malloc's mmap threshold (about a thousand nodes of moved frames) the kernel's page
-/// faults as well. A generation stamp per entry marks what this query computed. A second table of the same type
-/// alive on the same thread (a query started inside another) gets storage of its own.
+/// faults as well. Per index the table keeps a generation stamp, which marks what this query computed, and the
+/// entry's place in a dense array that holds the entries in the order they were computed: a query touches 8 bytes
+/// per index it asks for, and its entries lie together in memory that the thread's previous queries kept in cache
+/// (an array indexed by node spreads them over the whole table, a few cold cache lines each). A second table of the
+/// same type alive on the same thread (a query started inside another) gets storage of its own. References that
+/// get() returns stay valid for the table's lifetime.
 template <typename T>
 class PerQueryTable
 {
@@ -26,10 +30,12 @@ public:
     Storage& shared = threadStorage();
     storage_ = shared.busy ? &own_ : &shared;
     storage_->busy = true;
-    if (storage_->entries.size() < size) storage_->entries.resize(size);  // new entries carry stamp 0
+    if (storage_->slots.size() < size) storage_->slots.resize(size);  // new slots carry stamp 0
+    storage_->values.clear();
+    storage_->values.reserve(size);  // no reallocation while the query holds references
     if (++storage_->generation == 0)  // wrapped: stamps of 2^32 queries ago would read as current
     {
-      for (Entry& e : storage_->entries) e.stamp = 0;
+      for (Slot& s : storage_->slots) s.stamp = 0;
       storage_->generation = 1;
     }
   }
@@ -41,24 +47,26 @@ public:
   template <typename Make>
   const T& get(std::size_t i, Make&& make)
   {
-    Entry& e = storage_->entries[i];
-    if (e.stamp != storage_->generation)
+    Slot& s = storage_->slots[i];
+    if (s.stamp != storage_->generation)
     {
-      e.value = make();
-      e.stamp = storage_->generation;
+      s.place = std::uint32_t(storage_->values.size());
+      storage_->values.push_back(make());
+      s.stamp = storage_->generation;
     }
-    return e.value;
+    return storage_->values[s.place];
   }
 
 private:
-  struct Entry
+  struct Slot
   {
-    T value;
     std::uint32_t stamp = 0;
+    std::uint32_t place = 0;  ///< index into values
   };
   struct Storage
   {
-    std::vector<Entry> entries;
+    std::vector<Slot> slots;
+    std::vector<T> values;
     std::uint32_t generation = 0;
     bool busy = false;
   };
