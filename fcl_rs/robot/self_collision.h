@@ -58,8 +58,9 @@ struct SelfCheckResult
 ///
 /// How each BV type is queried (the fastest path FCL offers for it):
 /// * RS, OBBRSS, OBB, RSS: mesh-mesh in the links' own frames through collideWithStats (the relative
-///   transform, no copy; fcl::collide would copy and rebuild RSS trees per query); mesh-shape and
-///   shape-shape through fcl_rs::collide (RS) or fcl::collide (the others).
+///   transform, no copy; fcl::collide would copy and rebuild RSS trees per query); mesh-shape through
+///   fcl::collide, or for RS fcl_rs::collide's node with each shape's RS fitted once in its own frame and
+///   placed per query; shape-shape through fcl_rs::collide.
 /// * KDOP18: FCL's k-DOPs are axis-aligned, so they have no local-frame test. Once per check and only for the
 ///   links a pair needs, the link's vertices are moved to the world frame and its tree is refitted bottom-up
 ///   (same topology, exact leaves; cheaper than FCL's per-query copy and rebuild); the trees are then tested
