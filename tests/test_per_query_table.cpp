@@ -40,6 +40,18 @@ TEST(PerQueryTable, GrowsWhenALaterQueryNeedsMoreEntries)
   for (std::size_t i = 0; i < 1000; ++i) EXPECT_EQ(large.get(i, [i] { return int(i) + 7; }), int(i) + 7);
 }
 
+TEST(PerQueryTable, ReferencesStayValidWhileTheTableFills)
+{
+  // A fresh thread: storage that no earlier query has grown.
+  std::thread([] {
+    PerQueryTable<int> table(1000);
+    const int& first = table.get(999, [] { return 42; });
+    for (std::size_t i = 0; i < 999; ++i) table.get(i, [i] { return int(i); });
+    EXPECT_EQ(&table.get(999, [] { return 0; }), &first);  // entries were not moved
+    EXPECT_EQ(first, 42);
+  }).join();
+}
+
 TEST(PerQueryTable, ANestedTableHasItsOwnStorage)
 {
   PerQueryTable<int> outer(4);

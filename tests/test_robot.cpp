@@ -136,6 +136,15 @@ std::vector<DisabledCollision> sharedSrdf(const RobotModel& robot)
   return loadDisabledCollisions(test::sharedData("robots/" + robot.name + "/" + robot.name + ".srdf"), robot);
 }
 
+/// The test robot and, when present, the shared Panda and UR5.
+std::vector<const RobotModel*> withSharedRobots(const RobotModel& testbot)
+{
+  std::vector<const RobotModel*> robots{&testbot};
+  for (const char* name : {"panda", "ur5"})
+    if (const RobotModel* r = sharedRobot(name)) robots.push_back(r);
+  return robots;
+}
+
 fcl::Vector3d worldPoint(const std::vector<fcl::Transform3d>& poses, const RobotModel& robot, const std::string& link,
                          const fcl::Vector3d& p)
 {
@@ -262,11 +271,8 @@ TYPED_TEST(Kinematic, MatchesHandComputedPoses)
 TYPED_TEST(Kinematic, MatchesJointByJointComposition)
 {
   using S = TypeParam;
-  std::vector<const RobotModel*> robots;
   const RobotModel testbot = loadUrdf(writeTestbot());
-  robots.push_back(&testbot);
-  for (const char* name : {"panda", "ur5"})
-    if (const RobotModel* r = sharedRobot(name)) robots.push_back(r);
+  const std::vector<const RobotModel*> robots = withSharedRobots(testbot);
   const double tol = std::is_same<S, float>::value ? 1e-5 : 1e-13;
   for (const RobotModel* robot : robots)
   {
@@ -298,11 +304,8 @@ TYPED_TEST(Kinematic, MatchesJointByJointComposition)
 TYPED_TEST(Kinematic, RandomConfigurationsRespectLimits)
 {
   using S = TypeParam;
-  std::vector<const RobotModel*> robots;
   const RobotModel testbot = loadUrdf(writeTestbot());
-  robots.push_back(&testbot);
-  for (const char* name : {"panda", "ur5"})
-    if (const RobotModel* r = sharedRobot(name)) robots.push_back(r);
+  const std::vector<const RobotModel*> robots = withSharedRobots(testbot);
   for (const RobotModel* robot : robots)
   {
     const Kinematics<S> kin(*robot);
