@@ -535,6 +535,20 @@ TYPED_TEST(RSTest, PrimitivesGetTheirExactRSInTheirOwnFrame)
     fcl::computeBV(ellipsoid, tf, bvs[2]);
     fcl::computeBV(capsule, tf, bvs[3]);
     fcl::computeBV(cylinder, tf, bvs[4]);
+    // Fitted once in its own frame and placed at tf (placeShapeRS), a shape has the volume fitted at tf.
+    const auto expectPlacedIsFitted = [&](const auto& shape, const RS<S>& fitted) {
+      RS<S> own;
+      fcl::computeBV(shape, fcl::Transform3<S>::Identity(), own);
+      const RS<S> placed = placeShapeRS(own, tf);
+      EXPECT_TRUE(placed.axis == fitted.axis && placed.origin == fitted.origin && placed.lo == fitted.lo &&
+                  placed.hi == fitted.hi)
+          << "trial " << trial;
+    };
+    expectPlacedIsFitted(box, bvs[0]);
+    expectPlacedIsFitted(sphere, bvs[1]);
+    expectPlacedIsFitted(ellipsoid, bvs[2]);
+    expectPlacedIsFitted(capsule, bvs[3]);
+    expectPlacedIsFitted(cylinder, bvs[4]);
     for (int s = 0; s < 5; ++s)
     {
       const RS<S>& bv = bvs[s];
