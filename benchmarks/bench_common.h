@@ -66,6 +66,41 @@ inline std::string baseName(const std::string& path)
 
 inline bool fileExists(const std::string& path) { return std::ifstream(path).good(); }
 
+/// Two meshes queried against each other, named "a x b".
+struct MeshPair
+{
+  std::string name;
+  Mesh a, b;
+};
+
+/// fcl_rs_compare's default pairs (also fcl_rs_bench_distance --compare-pairs): three generated pairs, three of
+/// assimp's test models and FCL's env x rob; pairs whose files are missing are skipped with a note.
+inline std::vector<MeshPair> comparePairs(const std::string& assimp_models_dir, const std::string& shared_data_dir)
+{
+  std::vector<MeshPair> pairs;
+  pairs.push_back({"sphere x torus", makeSphere<S>(1.0), makeTorus<S>(1.0, 0.35, 48, 24)});
+  pairs.push_back({"ellipsoid x ellipsoid", makeEllipsoid<S>(2.0, 1.0, 0.2, 25, 48), makeEllipsoid<S>(1.5, 0.3, 0.3)});
+  pairs.push_back({"diamond x box", makeDiamond<S>(1.0, 1.2, 24), makeBox<S>(1.5, 0.4, 0.2)});
+  const std::string& assimp = assimp_models_dir;
+  const std::string data = shared_data_dir + "/models";
+  const struct { std::string a, b; } files[] = {
+      {assimp + "/STL/Spider_binary.stl", assimp + "/STL/Spider_binary.stl"},
+      {assimp + "/OFF/Wuson.off", assimp + "/PLY/Wuson.ply"},
+      {assimp + "/Collada/duck.dae", assimp + "/Collada/teapots.DAE"},
+      {data + "/fcl_env.obj", data + "/fcl_rob.obj"},
+  };
+  for (const auto& f : files)
+  {
+    if (!fileExists(f.a) || !fileExists(f.b))
+    {
+      std::fprintf(stderr, "note: skipping %s x %s (not found)\n", f.a.c_str(), f.b.c_str());
+      continue;
+    }
+    pairs.push_back({baseName(f.a) + " x " + baseName(f.b), loadMesh<S>(f.a), loadMesh<S>(f.b)});
+  }
+  return pairs;
+}
+
 /// The RS overlap tests the benchmarks measure and their names in tables (extend when OverlapTest grows).
 inline const std::vector<std::pair<OverlapTest, std::string>> kOverlapTests = {
     {OverlapTest::kTwoSided, "two-sided"}, {OverlapTest::kOneSided, "one-sided"}, {OverlapTest::kBoxed, "boxed"}};

@@ -47,12 +47,14 @@ struct Options
   int refits = 20;
   unsigned long long seed = 1;
   std::string csv;
+  bool compare_pairs = false;
+  double shell_min = 0.5, shell_max = 1.5;
 };
 
 const char* kDescription =
     "Distance: per mesh pair, N random poses (uniform rotations, mesh 2's bounding-box centre at a uniform\n"
     "direction from mesh 1's and a distance uniform in [0.5, 1.5] x (r1 + r2), r = bounding ball radius, so\n"
-    "that a minority of poses collide). RS runs through fcl_rs::distance, RSS and OBBRSS through\n"
+    "that a minority of poses collide; --shell-min/--shell-max change the interval). RS runs through fcl_rs::distance, RSS and OBBRSS through\n"
     "fcl::distance (their local-frame oriented traversal); the request is the default one (no nearest\n"
     "points, rel_err = abs_err = 0). Built with FCL_RS_WITH_COAL, Coal's RSS and OBBRSS run through\n"
     "coal::distance (nearest points, rel_err = abs_err = 0; a penetration depth counts as 0). Time: the\n"
@@ -70,7 +72,8 @@ const char* kDescription =
     "(FCL's OBB merge is not conservative), summed over the frames.\n"
     "\n"
     "Meshes: generated (torus x ellipsoid, sphere x box) and, when present, FCL's env x rob and bunny x\n"
-    "hand (low-resolution versions) from " FCL_RS_SHARED_DATA_DIR "/models.\n";
+    "hand (low-resolution versions) from " FCL_RS_SHARED_DATA_DIR "/models. With --compare-pairs the\n"
+    "distance table runs over fcl_rs_compare's seven pairs instead (the refit table keeps these meshes).\n";
 
 void addOptions(CLI::App& app, Options& opt)
 {
@@ -79,6 +82,13 @@ void addOptions(CLI::App& app, Options& opt)
   app.add_option("--seed", opt.seed, "random seed")->capture_default_str();
   app.add_flag("--wall-clock", [](std::int64_t) { g_clock = TimeSource::kWall; },
                "time with steady_clock instead of the thread's CPU time");
+  app.add_flag("--compare-pairs", opt.compare_pairs, "distance table over fcl_rs_compare's pairs");
+  app.add_option("--shell-min", opt.shell_min, "nearest centre distance, in units of r1 + r2")->capture_default_str();
+  app.add_option("--shell-max", opt.shell_max, "farthest centre distance, in units of r1 + r2")->capture_default_str();
+  app.callback([&opt] {
+    if (!(opt.shell_min >= 0 && opt.shell_min <= opt.shell_max))
+      throw CLI::ValidationError("--shell-min", "needs 0 <= shell-min <= shell-max");
+  });
   app.add_option("--csv", opt.csv, "also write every number to FILE (columns table,case,bv,quantity,value)");
 }
 
@@ -147,10 +157,9 @@ void countTests(const fcl::BVHModel<BV>& m1, const Transform3d& tf1, const fcl::
   leaf_tests += node.num_leaf_tests;
 }
 
-void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, Csv& csv)
+void benchDistance(const std::string& what, const Mesh& mesh1, const Mesh& mesh2, const Options& opt, Csv& csv)
 {
-  const std::string what = a.name + " x " + b.name;
-  const Sphere ba = boundingSphere(a.mesh), bb = boundingSphere(b.mesh);
+  const Sphere ba = boundingSphere(mesh1), bb = boundingSphere(mesh2);
   Random rng(opt.seed ^ std::hash<std::string>()(what));
   std::vector<Transform3d> tf1(std::size_t(opt.queries)), tf2(std::size_t(opt.queries));
   for (int i = 0; i < opt.queries; ++i)
@@ -163,15 +172,15 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
     do
       dir = randomInUnitBall(rng);
     while (dir.squaredNorm() < 1e-6);  // a uniform direction once normalised
-    const double shell = 0.5 + rng.uniform();
+    const double shell = opt.shell_min + (opt.shell_max - opt.shell_min) * rng.uniform();
     q.translation() = dir.normalized() * shell * (ba.radius + bb.radius) - q.linear() * bb.center;
     tf1[std::size_t(i)] = p;
     tf2[std::size_t(i)] = q;
   }
 
-  const auto rs1 = fcl_rs::buildModel<fcl_rs::RSd>(a.mesh), rs2 = fcl_rs::buildModel<fcl_rs::RSd>(b.mesh);
-  const auto rss1 = fcl_rs::buildModel<fcl::RSSd>(a.mesh), rss2 = fcl_rs::buildModel<fcl::RSSd>(b.mesh);
-  const auto ob1 = fcl_rs::buildModel<fcl::OBBRSSd>(a.mesh), ob2 = fcl_rs::buildModel<fcl::OBBRSSd>(b.mesh);
+  const auto rs1 = fcl_rs::buildModel<fcl_rs::RSd>(mesh1), rs2 = fcl_rs::buildModel<fcl_rs::RSd>(mesh2);
+  const auto rss1 = fcl_rs::buildModel<fcl::RSSd>(mesh1), rss2 = fcl_rs::buildModel<fcl::RSSd>(mesh2);
+  const auto ob1 = fcl_rs::buildModel<fcl::OBBRSSd>(mesh1), ob2 = fcl_rs::buildModel<fcl::OBBRSSd>(mesh2);
   const fcl::DistanceRequest<S> request;
 
   struct Row
@@ -216,8 +225,8 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
   std::vector<std::unique_ptr<fcl_rs::bench::CoalMeshPair>> coal;
   for (const auto bv : {fcl_rs::bench::CoalBV::kRSS, fcl_rs::bench::CoalBV::kOBBRSS})
   {
-    coal.push_back(std::make_unique<fcl_rs::bench::CoalMeshPair>(bv, a.mesh.vertices, a.mesh.triangles,
-                                                                  b.mesh.vertices, b.mesh.triangles));
+    coal.push_back(std::make_unique<fcl_rs::bench::CoalMeshPair>(bv, mesh1.vertices, mesh1.triangles,
+                                                                  mesh2.vertices, mesh2.triangles));
     const fcl_rs::bench::CoalMeshPair& trees = *coal.back();
     rows.push_back({fcl_rs::bench::coalName(bv), [&](std::size_t i) { return trees.distance(tf1[i], tf2[i]); }, {}, {}});
   }
@@ -258,8 +267,8 @@ void benchDistance(const NamedMesh& a, const NamedMesh& b, const Options& opt, C
   double fastest_peer = std::numeric_limits<double>::infinity();
   for (std::size_t r = 1; r < rows.size(); ++r) fastest_peer = std::min(fastest_peer, rows[r].seconds);
 
-  std::printf("\n%s: %d + %d triangles, %zu poses, %d colliding\n", what.c_str(), int(a.mesh.triangles.size()),
-              int(b.mesh.triangles.size()), n, colliding);
+  std::printf("\n%s: %d + %d triangles, %zu poses, %d colliding\n", what.c_str(), int(mesh1.triangles.size()),
+              int(mesh2.triangles.size()), n, colliding);
   std::printf("  %-11s %12s %9s %10s %11s %11s %12s %9s\n", "BV", "us/query", "RS/this", "this/best", "BV tests",
               "tri tests", "max err/r", "disagree");
   for (const Row& row : rows)
@@ -442,7 +451,11 @@ int main(int argc, char** argv)
                 fcl_rs::bench::coalVersion().c_str());
 #endif
     std::printf("Distance per query (double); RS/this = RS time / this BV's time (below 1: RS is faster)\n");
-    for (const auto& [a, b] : pairs) benchDistance(a, b, opt, csv);
+    if (opt.compare_pairs)
+      for (const MeshPair& p : comparePairs(FCL_RS_ASSIMP_MODELS_DIR, FCL_RS_SHARED_DATA_DIR))
+        benchDistance(p.name, p.a, p.b, opt, csv);
+    else
+      for (const auto& [a, b] : pairs) benchDistance(a.name + " x " + b.name, a.mesh, b.mesh, opt, csv);
     std::printf("\nRefit after deformation (double), FCL's update API\n");
     for (const auto& [a, b] : pairs) benchRefit(a, opt, csv);
     csv.close();

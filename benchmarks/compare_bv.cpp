@@ -115,39 +115,7 @@ void addOptions(CLI::App& app, Options& opt)
 // ---------------------------------------------------------------------------------------------------
 // Inputs
 
-struct MeshPair
-{
-  std::string name;
-  Mesh a, b;
-};
-
-std::vector<MeshPair> defaultPairs()
-{
-  std::vector<MeshPair> pairs;
-  pairs.push_back({"sphere x torus", fcl_rs::makeSphere<S>(1.0), fcl_rs::makeTorus<S>(1.0, 0.35, 48, 24)});
-  pairs.push_back({"ellipsoid x ellipsoid", fcl_rs::makeEllipsoid<S>(2.0, 1.0, 0.2, 25, 48),
-                   fcl_rs::makeEllipsoid<S>(1.5, 0.3, 0.3)});
-  pairs.push_back({"diamond x box", fcl_rs::makeDiamond<S>(1.0, 1.2, 24), fcl_rs::makeBox<S>(1.5, 0.4, 0.2)});
-
-  const std::string assimp = FCL_RS_ASSIMP_MODELS_DIR;
-  const std::string data = std::string(FCL_RS_SHARED_DATA_DIR) + "/models";
-  const struct { std::string a, b; } files[] = {
-      {assimp + "/STL/Spider_binary.stl", assimp + "/STL/Spider_binary.stl"},
-      {assimp + "/OFF/Wuson.off", assimp + "/PLY/Wuson.ply"},
-      {assimp + "/Collada/duck.dae", assimp + "/Collada/teapots.DAE"},
-      {data + "/fcl_env.obj", data + "/fcl_rob.obj"},
-  };
-  for (const auto& f : files)
-  {
-    if (!fileExists(f.a) || !fileExists(f.b))
-    {
-      std::fprintf(stderr, "note: skipping %s x %s (not found)\n", f.a.c_str(), f.b.c_str());
-      continue;
-    }
-    pairs.push_back({baseName(f.a) + " x " + baseName(f.b), fcl_rs::loadMesh<S>(f.a), fcl_rs::loadMesh<S>(f.b)});
-  }
-  return pairs;
-}
+std::vector<MeshPair> defaultPairs() { return comparePairs(FCL_RS_ASSIMP_MODELS_DIR, FCL_RS_SHARED_DATA_DIR); }
 
 std::vector<MeshPair> filePairs(const Options& opt)
 {
