@@ -1118,9 +1118,12 @@ TYPED_TEST(CollideStats, EveryBVTypeCountsTestsAndAgrees)
 }
 
 // collideTrees moves each node frame of the second tree once per query (detail::MovedFrames); FCL's recursion
-// over the same node calls the virtual BVTesting, which moves it in every test. Both descend alike (collideTrees
-// sends two leaves to the triangle test without a BV test), so a stale or misplaced cached frame shows as a
-// different count of visited pairs or a different set of reported pairs.
+// over the same node calls the virtual BVTesting, which moves it in every test. A stale or misplaced cached frame
+// shows as a different set of reported pairs. The two no longer visit the same pairs: collideTrees sends two
+// leaves to the triangle test without a BV test, and tests a leaf against an inner node by the leaf's triangle
+// (leafTriangleTesting) where the recursion tests their volumes. The triangle is tighter on the inner node's
+// slabs but skips the leaf's own, so fewer pairs per pose is not guaranteed; over these poses of two meshes with
+// similar triangles collideTrees must reach fewer node pairs than the recursion's BV tests.
 TYPED_TEST(CollideStats, CachedNodeFramesTestWhatFclsRecursionTests)
 {
   using S = TypeParam;
@@ -1128,6 +1131,7 @@ TYPED_TEST(CollideStats, CachedNodeFramesTestWhatFclsRecursionTests)
   const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.3)));
   auto rng = fcl_rs::test::seededRng("collide/cached_frames/" + scalarName<S>());
   int colliding = 0;
+  long tree_pairs = 0, recursion_pairs = 0;
   for (int i = 0; i < 20; ++i)
   {
     const auto [tf1, tf2] = nearbyPoses(rng, sphere, torus, S(0.6), S(3));
@@ -1139,15 +1143,17 @@ TYPED_TEST(CollideStats, CachedNodeFramesTestWhatFclsRecursionTests)
     cached.enable_statistics = recursion.enable_statistics = true;
     fcl_rs::collideTrees(cached);
     fcl::detail::collide(&recursion);
-    // Same pairs visited: the recursion's BV tests of two leaves are collideTrees' leaf tests.
-    EXPECT_EQ(cached.num_bv_tests + cached.num_leaf_tests, recursion.num_bv_tests) << "pose #" << i;
-    EXPECT_GE(cached.num_leaf_tests, recursion.num_leaf_tests) << "pose #" << i;
+    // Node pairs reached: the recursion's BV tests of two leaves are collideTrees' leaf tests.
+    tree_pairs += cached.num_bv_tests + cached.num_leaf_tests;
+    recursion_pairs += recursion.num_bv_tests;
     EXPECT_TRUE(fcl_rs::test::contactPairs(cached_result) == fcl_rs::test::contactPairs(recursion_result))
         << "pose #" << i;
     colliding += cached_result.isCollision();
   }
   EXPECT_GT(colliding, 0);
   EXPECT_LT(colliding, 20);
+  EXPECT_LT(tree_pairs, recursion_pairs);
+  std::cout << "node pairs reached: collideTrees " << tree_pairs << ", FCL's recursion " << recursion_pairs << "\n";
 }
 
 }  // namespace

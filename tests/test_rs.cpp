@@ -425,6 +425,64 @@ TYPED_TEST(RSTest, PairFrameStaysWithinItsRoundingBound)
   std::cout << "largest frame error / rounding bound: " << worst << "\n";
 }
 
+// The traversal's test of a leaf's triangle against the other tree's node (detail::triangleOverlap, both ways
+// round): a triangle with a vertex at a corner of the node's polytope (grazing) or through a point inside it is
+// never culled, near the origin and 1e3 or 1e5 away; the same triangle moved out past a face by well over the
+// rounding bound is.
+TYPED_TEST(RSTest, LeafTriangleTestKeepsTouchingTrianglesAndCullsDistantOnes)
+{
+  using S = TypeParam;
+  auto rng = seededRng("LeafTriangleTestKeepsTouchingTriangles");
+  std::uniform_real_distribution<double> u(-1, 1), unit(0, 1);
+  const S offsets[] = {0, 1000, 100000};
+  for (int trial = 0; trial < 600; ++trial)
+  {
+    const S offset = offsets[trial % 3];
+    auto cloud = randomCloud<S>(rng, trial, 3 + trial % 20);
+    const fcl::Vector3<S> shift(S(u(rng) * offset), S(u(rng) * offset), S(u(rng) * offset));
+    for (auto& p : cloud) p += shift;
+    const RS<S> node = fitPoints<S>(cloud.data(), int(cloud.size()));
+    const fcl::Transform3<S> tf = randomPose<S>(rng, offset + 1);
+    const fcl::Matrix3<S> R = tf.linear();
+    const fcl::Vector3<S> T = tf.translation();
+    const bool node_in_model1 = trial % 2 == 0;  // else the triangle is model1's and the node model2's
+    // A point of the node's polytope: a corner (the triangle grazes it) or a mix of corners.
+    const auto corners = node.corners();
+    fcl::Vector3<S> y = corners[std::size_t(trial) % 32];
+    if (trial % 4 >= 2)
+    {
+      const S w = S(unit(rng));
+      y = w * y + (1 - w) * corners[std::size_t(trial / 4) % 32];
+    }
+    const fcl::Vector3<S> x = node.toModel(y);
+    const fcl::Vector3<S> at = node_in_model1 ? fcl::Vector3<S>(R.transpose() * (x - T)) : fcl::Vector3<S>(R * x + T);
+    // The triangle in its own model's coordinates, through `at`: as a vertex, or on the first edge's middle.
+    const S size = S(std::pow(10.0, 3 * unit(rng) - 2));
+    const fcl::Vector3<S> e(S(u(rng)), S(u(rng)), S(u(rng))), f(S(u(rng)), S(u(rng)), S(u(rng)));
+    fcl::Vector3<S> tri[3] = {at, at + size * e, at + size * f};
+    if (trial % 3 == 1) tri[1] = at - size * e, tri[0] = at + size * e;
+    const auto test = [&](const fcl::Vector3<S> t[3]) {
+      const RS<S> leaf = fitPoints<S>(t, 3);
+      return node_in_model1 ? detail::triangleOverlap(node, R, T, t, leaf, S(0))
+                            : detail::triangleOverlap(t, leaf, detail::MovedFrame<S>(R, T, node), node);
+    };
+    ASSERT_TRUE(test(tri)) << "trial " << trial << " offset " << offset << " size " << size;
+
+    // Moved out along the node's first axis until every vertex is past the slab by 1 % of the node's size and
+    // far more than the rounding bound (pairRoundingBound of everything involved).
+    const fcl::Vector3<S> axis_in_triangle = node_in_model1 ? fcl::Vector3<S>(R.transpose() * node.axis.col(0))
+                                                            : fcl::Vector3<S>(R * node.axis.col(0));
+    S lowest = std::numeric_limits<S>::max();
+    for (const auto& v : tri) lowest = std::min(lowest, axis_in_triangle.dot(v));
+    const S bound =
+        detail::pairRoundingBound<S>(3 * (offset + size) + 3 * T.template lpNorm<1>(), node.magnitude() + size);
+    const S beyond = axis_in_triangle.dot(at) - lowest + node.hi[0] - y[0] + S(0.01) * node.magnitude() + 100 * bound;
+    fcl::Vector3<S> apart[3];
+    for (int i = 0; i < 3; ++i) apart[i] = tri[i] + beyond * axis_in_triangle;
+    EXPECT_FALSE(test(apart)) << "trial " << trial << " offset " << offset << " size " << size;
+  }
+}
+
 TYPED_TEST(RSTest, DistanceIsALowerBound)
 {
   using S = TypeParam;

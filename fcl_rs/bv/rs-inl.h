@@ -660,6 +660,68 @@ bool boxedOverlap(const MovedFrame<S>& moved2, const RS<S>& b1)
   return !(worst > S(M_SQRT2) * f.tol);
 }
 
+/// Whether a triangle, its vertices y in b's frame coordinates, may meet b: its interval along each of b's nine
+/// slab directions meets the slab widened by tol. The face axes come first with one exit; the diagonals are
+/// compared sqrt(2) times, as in boxedOverlap.
+/// Rounding (triangleOverlap's tol is pairRoundingBound of the offsets and reaches named there; u = eps): the test
+/// can only go wrong for a triangle that meets b (or comes within the leaf test's tolerance of a triangle in it),
+/// and then every vertex lies within the triangle's diameter of a point of b's box, so |y_v|_1 and the vertex's
+/// L1 distance from b's frame origin are <= 3 reach_b + 6 reach_leaf <= 6 reaches. A coordinate of y_v is a
+/// 3-term dot product of a stored (or moved) axis, entries within 16u of an orthonormal frame as in
+/// pairRoundingBound, with the vertex minus the frame origin: <= 19u * 6 reaches from the product and the
+/// subtraction, plus sqrt(3) times the moved origin's (or R q + T's) error, 4u per coordinate of the offsets:
+/// <= 7u offsets + 114u reaches. The diagonals add two of them and round lo, hi * sqrt(2) (<= 2u reaches): <= 14u
+/// offsets + 232u reaches on the sqrt(2) scale. Both fit in the first-order bound pairRoundingBound already
+/// carries with its margin (14u offsets + 232u reaches on the face axes, twice that on the diagonals).
+template <typename S>
+bool triangleMeetsSlabs(const fcl::Vector3<S> y[3], const RS<S>& b, S tol)
+{
+  const auto gap = [](S v0, S v1, S v2, S lo, S hi) __attribute__((always_inline)) {
+    return std::max(std::min(v0, std::min(v1, v2)) - hi, lo - std::max(v0, std::max(v1, v2)));
+  };
+  S worst = -std::numeric_limits<S>::max();
+  for (int i = 0; i < 3; ++i) worst = std::max(worst, gap(y[0][i], y[1][i], y[2][i], b.lo[i], b.hi[i]));
+  if (worst > tol) return false;
+  const S scale = S(M_SQRT2);
+  for (int k = 3; k < kNumSlabs; ++k)
+  {
+    const SlabDirection& d = kSlabDirections[std::size_t(k)];
+    const S sign = S(d.sign);
+    worst = std::max(worst, gap(y[0][d.i] + sign * y[0][d.j], y[1][d.i] + sign * y[1][d.j],
+                                y[2][d.i] + sign * y[2][d.j], b.lo[k] * scale, b.hi[k] * scale));
+  }
+  return !(worst > scale * tol);
+}
+
+/// A leaf's triangle p (b1's model coordinates; leaf1 is its RS) against b2 moved into them (moved2 =
+/// MovedFrame(R, T, b2)): b2's nine slabs only. The triangle lies in leaf1, so on those slabs this is tighter
+/// than boxedOverlap(moved2, leaf1); it does not test leaf1's slabs against b2's box. Offsets as PairFrame's
+/// (the vertices' own size enters only through their distance from b2, a reach).
+template <typename S>
+bool triangleOverlap(const fcl::Vector3<S> p[3], const RS<S>& leaf1, const MovedFrame<S>& moved2, const RS<S>& b2)
+{
+  const fcl::Vector3<S> y[3] = {moved2.axis.transpose() * (p[0] - moved2.origin),
+                                moved2.axis.transpose() * (p[1] - moved2.origin),
+                                moved2.axis.transpose() * (p[2] - moved2.origin)};
+  const S offsets = moved2.offsets + leaf1.origin.template lpNorm<1>();
+  return triangleMeetsSlabs(y, b2, pairRoundingBound<S>(offsets, Box<S>(leaf1).reach() + moved2.reach));
+}
+
+/// b1 against a leaf's triangle q of b2's model (leaf2 is its RS), mapped into b1's model coordinates by
+/// x = R q + T as the leaf test maps it: b1's nine slabs only. world_offsets as MovedFrame's; the offsets count
+/// the vertices' L1 size, which R q + T rounds.
+template <typename S>
+bool triangleOverlap(const RS<S>& b1, const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const fcl::Vector3<S> q[3],
+                     const RS<S>& leaf2, S world_offsets)
+{
+  const fcl::Vector3<S> y[3] = {b1.axis.transpose() * (R * q[0] + T - b1.origin),
+                                b1.axis.transpose() * (R * q[1] + T - b1.origin),
+                                b1.axis.transpose() * (R * q[2] + T - b1.origin)};
+  const S largest_q = std::max({q[0].template lpNorm<1>(), q[1].template lpNorm<1>(), q[2].template lpNorm<1>()});
+  const S offsets = largest_q + T.template lpNorm<1>() + world_offsets + b1.origin.template lpNorm<1>();
+  return triangleMeetsSlabs(y, b1, pairRoundingBound<S>(offsets, Box<S>(b1).reach() + Box<S>(leaf2).reach()));
+}
+
 /// The exact overlap tests (OverlapTest::kOneSided, kTwoSided), compiled once per variant.
 template <OverlapTest test, typename S>
 bool exactOverlap(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2)
