@@ -133,4 +133,33 @@ TYPED_TEST(SurfaceAreaSplits, DegenerateMeshesBuildAndContainTheirTriangles)
   }
 }
 
+/// fcl_rs's inline node links read the same tree as FCL's out-of-line accessors, on FCL's own OBB trees too.
+template <typename BV>
+void expectNodeLinksMatchFcl(const fcl::BVHModel<BV>& model, const std::string& what)
+{
+  int leaves = 0;
+  for (int k = 0; k < model.getNumBVs(); ++k)
+  {
+    const fcl::BVNodeBase& node = model.getBV(k);
+    ASSERT_EQ(fcl_rs::isLeaf(node), node.isLeaf()) << what << " node " << k;
+    if (node.isLeaf())
+    {
+      ++leaves;
+      EXPECT_EQ(fcl_rs::primitiveId(node), node.primitiveId()) << what << " node " << k;
+      continue;
+    }
+    EXPECT_EQ(fcl_rs::leftChild(node), node.leftChild()) << what << " node " << k;
+    EXPECT_EQ(fcl_rs::rightChild(node), node.rightChild()) << what << " node " << k;
+  }
+  EXPECT_EQ(leaves, model.num_tris) << what;
+}
+
+TYPED_TEST(SurfaceAreaSplits, NodeLinksReadWhatFclsAccessorsReturn)
+{
+  using S = TypeParam;
+  const TriangleMesh<S> torus = fcl_rs::makeTorus<S>(S(1), S(0.25));
+  expectNodeLinksMatchFcl(*buildSurfaceArea(torus), "RS torus");
+  expectNodeLinksMatchFcl(*fcl_rs::buildModel<fcl::OBB<S>>(torus), "OBB torus");
+}
+
 }  // namespace

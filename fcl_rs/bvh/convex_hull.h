@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <fcl/geometry/bvh/BVH_model.h>
 
+#include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/bvh/primitive_order.h"
 
 namespace fcl_rs {
@@ -44,16 +45,16 @@ void forEachNodeHull(const fcl::BVHModel<BV>& model, Visit visit)
   {
     const auto& node = model.getBV(k);
     std::vector<Eigen::Vector3d> points;
-    if (node.isLeaf())
+    if (isLeaf(node))
     {
-      const fcl::Triangle& t = model.tri_indices[node.primitiveId()];
+      const fcl::Triangle& t = model.tri_indices[primitiveId(node)];
       for (const auto* v : {model.vertices, model.prev_vertices})
         if (v)
           for (int c = 0; c < 3; ++c) points.push_back(v[t[c]].template cast<double>());
     }
     else
     {
-      const int l = node.leftChild(), r = node.rightChild();
+      const int l = leftChild(node), r = rightChild(node);
       if (l <= k || r <= k) throw std::logic_error("fcl_rs::forEachNodeHull: a child precedes its parent");
       points = std::move(pending[std::size_t(l)]);
       points.insert(points.end(), pending[std::size_t(r)].begin(), pending[std::size_t(r)].end());

@@ -7,6 +7,8 @@
 
 #include <fcl/geometry/bvh/BVH_model.h>
 
+#include "fcl_rs/bvh/node_links.h"
+
 namespace fcl_rs {
 
 /// The triangles of a built tree in the tree's primitive order: node k's triangles are
@@ -33,7 +35,7 @@ std::vector<int> primitiveOrder(const fcl::BVHModel<BV>& model)
   for (int k = 0; k < model.getNumBVs(); ++k)
   {
     const auto& node = model.getBV(k);
-    if (node.isLeaf()) order.at(std::size_t(node.first_primitive)) = node.primitiveId();
+    if (isLeaf(node)) order.at(std::size_t(node.first_primitive)) = primitiveId(node);
   }
   return order;
 }

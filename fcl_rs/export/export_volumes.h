@@ -11,6 +11,7 @@
 
 #include "fcl_rs/bvh/convex_hull.h"
 #include "fcl_rs/bvh/frame_fit.h"
+#include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/bvh/primitive_order.h"
 #include "fcl_rs/export/bv_polytope.h"
 
@@ -81,8 +82,8 @@ std::vector<int> nodeDepths(const fcl::BVHModel<BV>& model)
   for (int k = 0; k < model.getNumBVs(); ++k)  // FCL numbers children after their parent
   {
     const auto& node = model.getBV(k);
-    if (!node.isLeaf())
-      depth.at(std::size_t(node.leftChild())) = depth.at(std::size_t(node.rightChild())) = depth[std::size_t(k)] + 1;
+    if (!isLeaf(node))
+      depth.at(std::size_t(leftChild(node))) = depth.at(std::size_t(rightChild(node))) = depth[std::size_t(k)] + 1;
   }
   return depth;
 }
@@ -106,10 +107,10 @@ std::vector<int> selectNodes(const fcl::BVHModel<BV>& model, const NodeSelection
       const int k = stack.back();
       stack.pop_back();
       const auto& node = model.getBV(k);
-      if (node.isLeaf())
+      if (isLeaf(node))
         nodes.push_back(k);
       else
-        stack.insert(stack.end(), {node.rightChild(), node.leftChild()});
+        stack.insert(stack.end(), {rightChild(node), leftChild(node)});
     }
     return nodes;
   }
@@ -118,7 +119,7 @@ std::vector<int> selectNodes(const fcl::BVHModel<BV>& model, const NodeSelection
     throw std::out_of_range("fcl_rs: level " + std::to_string(selection.level) + " is beyond the tree's depth " +
                             std::to_string(tree_depth) + " (levels 0.." + std::to_string(tree_depth) + ")");
   for (int k = 0; k < num_nodes; ++k)
-    if (depth[std::size_t(k)] == selection.level || (depth[std::size_t(k)] < selection.level && model.getBV(k).isLeaf()))
+    if (depth[std::size_t(k)] == selection.level || (depth[std::size_t(k)] < selection.level && isLeaf(model.getBV(k))))
       nodes.push_back(k);
   return nodes;
 }

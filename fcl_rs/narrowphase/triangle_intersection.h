@@ -24,6 +24,8 @@
 #include <fcl/narrowphase/collision_result.h>
 #include <fcl/narrowphase/detail/traversal/collision/intersect.h>
 
+#include "fcl_rs/bvh/node_links.h"
+
 namespace fcl_rs {
 
 /// The distance computation runs in a wider type than the coordinates, so its own rounding stays far below
@@ -452,7 +454,7 @@ void meshTriangleLeafTesting(int b1, int b2, const fcl::BVHModel<BV>* model1, co
   const bool occupied = model1->isOccupied() && model2->isOccupied();
   if (!occupied && !((!model1->isFree() && !model2->isFree()) && request.enable_cost)) return;
 
-  const int id1 = model1->getBV(b1).primitiveId(), id2 = model2->getBV(b2).primitiveId();
+  const int id1 = primitiveId(model1->getBV(b1)), id2 = primitiveId(model2->getBV(b2));
   const fcl::Triangle& t1 = tri_indices1[id1];
   const fcl::Triangle& t2 = tri_indices2[id2];
   const fcl::Vector3<S> p[3] = {vertices1[t1[0]], vertices1[t1[1]], vertices1[t1[2]]};

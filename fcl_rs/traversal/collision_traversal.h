@@ -14,6 +14,7 @@
 
 #include "fcl_rs/bv/rs.h"
 #include "fcl_rs/bv/rs_fit.h"
+#include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/narrowphase/triangle_intersection.h"
 #include "fcl_rs/traversal/moved_frames.h"
 
@@ -46,7 +47,7 @@ public:
   {
     if (this->enable_statistics) this->num_bv_tests++;
     const fcl::BVNode<RS<S>>& leaf = this->model1->getBV(b1);
-    const fcl::Triangle& t = this->tri_indices1[leaf.primitiveId()];
+    const fcl::Triangle& t = this->tri_indices1[primitiveId(leaf)];
     const fcl::Vector3<S> p[3] = {this->vertices1[t[0]], this->vertices1[t[1]], this->vertices1[t[2]]};
     return !detail::triangleOverlap(p, leaf.bv, moved2, this->model2->getBV(b2).bv);
   }
@@ -56,7 +57,7 @@ public:
   {
     if (this->enable_statistics) this->num_bv_tests++;
     const fcl::BVNode<RS<S>>& leaf = this->model2->getBV(b2);
-    const fcl::Triangle& t = this->tri_indices2[leaf.primitiveId()];
+    const fcl::Triangle& t = this->tri_indices2[primitiveId(leaf)];
     const fcl::Vector3<S> q[3] = {this->vertices2[t[0]], this->vertices2[t[1]], this->vertices2[t[2]]};
     return !detail::triangleOverlap(this->model1->getBV(b1).bv, R, T, q, leaf.bv, world_offsets);
   }
@@ -126,7 +127,7 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
     stack.pop_back();
     const fcl::BVNode<RS<S>>& n1 = model1.getBV(b1);
     const fcl::BVNode<RS<S>>& n2 = model2.getBV(b2);
-    const bool leaf1 = n1.isLeaf(), leaf2 = n2.isLeaf();
+    const bool leaf1 = isLeaf(n1), leaf2 = isLeaf(n2);
     if (leaf1 && leaf2)
     {
       node.MeshCollisionTraversalNodeRS<S>::leafTesting(b1, b2);
@@ -141,7 +142,7 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
     if (apart) continue;
     if (leaf2 || (!leaf1 && n1.bv.size() > n2.bv.size()))
     {
-      int near = n1.leftChild(), far = n1.rightChild();
+      int near = leftChild(n1), far = rightChild(n1);
       if (nearer_first)
       {
         const fcl::Vector3<S>& c2 = moved(b2).origin;
@@ -153,7 +154,7 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
     }
     else
     {
-      int near = n2.leftChild(), far = n2.rightChild();
+      int near = leftChild(n2), far = rightChild(n2);
       if (nearer_first)
       {
         const fcl::Vector3<S>& c1 = n1.bv.origin;

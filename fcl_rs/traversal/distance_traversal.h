@@ -16,6 +16,7 @@
 
 #include "fcl_rs/bv/rs.h"
 #include "fcl_rs/bv/rs_fit.h"
+#include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/narrowphase/triangle_intersection.h"
 #include "fcl_rs/traversal/moved_frames.h"
 #include "fcl_rs/traversal/per_query_table.h"
@@ -176,9 +177,9 @@ void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
   // the triangles' centroids first skips pairs that cannot improve the result (15-52 % of them in
   // fcl_rs_bench_distance).
   const auto bound = [&](int b1, int b2) {
-    if (!model1.getBV(b1).isLeaf() || !model2.getBV(b2).isLeaf())
+    if (!isLeaf(model1.getBV(b1)) || !isLeaf(model2.getBV(b2)))
       return node.Node::BVTesting(b1, b2, moved(b2));
-    const int id1 = model1.getBV(b1).primitiveId(), id2 = model2.getBV(b2).primitiveId();
+    const int id1 = primitiveId(model1.getBV(b1)), id2 = primitiveId(model2.getBV(b2));
     const fcl::Triangle& t1 = node.tri_indices1[id1];
     const fcl::Triangle& t2 = node.tri_indices2[id2];
     const V p[3] = {node.vertices1[t1[0]], node.vertices1[t1[1]], node.vertices1[t1[2]]};
@@ -210,7 +211,7 @@ void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
   {
     const fcl::BVNode<RS<S>>& n1 = model1.getBV(pair.b1);
     const fcl::BVNode<RS<S>>& n2 = model2.getBV(pair.b2);
-    const bool leaf1 = n1.isLeaf(), leaf2 = n2.isLeaf();
+    const bool leaf1 = isLeaf(n1), leaf2 = isLeaf(n2);
     if (leaf1 && leaf2)
       node.Node::leafTesting(pair.b1, pair.b2);  // two single-triangle models
     else
@@ -218,13 +219,13 @@ void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
       Pair a{pair.b1, pair.b2, S(0)}, c = a;
       if (leaf2 || (!leaf1 && n1.bv.size() > n2.bv.size()))
       {
-        a.b1 = n1.leftChild();
-        c.b1 = n1.rightChild();
+        a.b1 = leftChild(n1);
+        c.b1 = rightChild(n1);
       }
       else
       {
-        a.b2 = n2.leftChild();
-        c.b2 = n2.rightChild();
+        a.b2 = leftChild(n2);
+        c.b2 = rightChild(n2);
       }
       a.bound = bound(a.b1, a.b2);
       c.bound = bound(c.b1, c.b2);
@@ -302,7 +303,7 @@ public:
   void leafTesting(int b1, int) const override
   {
     if (this->enable_statistics) this->num_leaf_tests++;
-    triangleDistance(this->model1->getBV(b1).primitiveId());
+    triangleDistance(primitiveId(this->model1->getBV(b1)));
   }
 
   std::unique_ptr<ShapeDistanceBound<S, Shape>> bound;
