@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -98,7 +99,8 @@ constexpr std::size_t kNearerFirstMaxContacts = 16;
 
 /// Runs the mesh-mesh traversal of node: FCL's depth-first order (split the larger node, stop once the
 /// request is satisfied) on an explicit stack with direct calls. FCL's generic recursion makes five virtual
-/// calls per visited pair, which costs about as much as an RS test.
+/// calls per visited pair, which costs about as much as an RS test. A split pair goes on with its first child
+/// at once and stacks only the second (docs/kernel.md: 8 % fewer instructions than stacking both).
 /// A node of model2 usually meets several nodes of model1, so its frame is moved into model1's coordinates
 /// once per query (MovedFrames), not once per test.
 /// Two leaves go straight to the triangle test, with no RS test first: the leaf test opens with a certified
@@ -117,30 +119,36 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
   const fcl::BVHModel<RS<S>>& model1 = *node.model1;
   const fcl::BVHModel<RS<S>>& model2 = *node.model2;
   detail::MovedFrames<S> moved(node.R, node.T, model2, node.world_offsets);
-  std::vector<std::pair<int, int>> stack;
+  std::vector<std::pair<int, int>> stack;  // the second children of the pairs split so far
   stack.reserve(128);
-  stack.emplace_back(0, 0);
   const bool nearer_first = !node.request.enable_cost && node.request.num_max_contacts <= kNearerFirstMaxContacts;
-  while (!stack.empty())
+  int b1 = 0, b2 = 0;
+  for (;;)
   {
-    const auto [b1, b2] = stack.back();
-    stack.pop_back();
     const fcl::BVNode<RS<S>>& n1 = model1.getBV(b1);
     const fcl::BVNode<RS<S>>& n2 = model2.getBV(b2);
     const bool leaf1 = isLeaf(n1), leaf2 = isLeaf(n2);
+    // (Written out: a helper for the size rule costs 1-3 % more instructions, gcc 12.)
+    constexpr S ratio = kTriangleTestMaxSizeRatio;
+    bool done = true;
     if (leaf1 && leaf2)
     {
       node.MeshCollisionTraversalNodeRS<S>::leafTesting(b1, b2);
       if (node.request.isSatisfied(*node.result)) return;
-      continue;
     }
-    // (Written out: a helper for the size rule costs 1-3 % more instructions, gcc 12.)
-    constexpr S ratio = kTriangleTestMaxSizeRatio;
-    const bool apart = leaf1 && n1.bv.size() <= ratio * n2.bv.size()   ? node.leafTriangleTesting(b1, b2, moved(b2))
-                       : leaf2 && n2.bv.size() <= ratio * n1.bv.size() ? node.leafTriangleTesting(b1, b2)
-                       : node.MeshCollisionTraversalNodeRS<S>::BVTesting(b1, b2, moved(b2));
-    if (apart) continue;
-    if (leaf2 || (!leaf1 && n1.bv.size() > n2.bv.size()))
+    else
+    {
+      done = leaf1 && n1.bv.size() <= ratio * n2.bv.size()   ? node.leafTriangleTesting(b1, b2, moved(b2))
+             : leaf2 && n2.bv.size() <= ratio * n1.bv.size() ? node.leafTriangleTesting(b1, b2)
+                                                              : node.MeshCollisionTraversalNodeRS<S>::BVTesting(b1, b2, moved(b2));
+    }
+    if (done)
+    {
+      if (stack.empty()) return;
+      std::tie(b1, b2) = stack.back();
+      stack.pop_back();
+    }
+    else if (leaf2 || (!leaf1 && n1.bv.size() > n2.bv.size()))
     {
       int near = leftChild(n1), far = rightChild(n1);
       if (nearer_first)
@@ -150,7 +158,7 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
           std::swap(near, far);
       }
       stack.emplace_back(far, b2);
-      stack.emplace_back(near, b2);
+      b1 = near;
     }
     else
     {
@@ -162,7 +170,7 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
           std::swap(near, far);
       }
       stack.emplace_back(b1, far);
-      stack.emplace_back(b1, near);
+      b2 = near;
     }
   }
 }
