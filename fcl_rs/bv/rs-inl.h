@@ -629,10 +629,10 @@ bool boxedOverlap(const MovedFrame<S>& moved2, const RS<S>& b1)
   // reaches the L1 norm of column i of N1 = diag(h1) M along b2's axis i.
   const fcl::Matrix3<S> N2 = M * h2.asDiagonal();
   const V d = f.centre2 - f.box1.c;  // from b1's box centre to b2's, b1's frame
-  if (((d.cwiseAbs() - N2.cwiseAbs().rowwise().sum() - h1).array() > f.tol).any()) return false;
+  if ((d.cwiseAbs() - N2.cwiseAbs().rowwise().sum() - h1).maxCoeff() > f.tol) return false;
   const fcl::Matrix3<S> N1 = h1.asDiagonal() * M;
   const V e = -(M.transpose() * d);  // from b2's box centre to b1's, b2's frame
-  if (((e.cwiseAbs() - N1.cwiseAbs().colwise().sum().transpose() - h2).array() > f.tol).any()) return false;
+  if ((e.cwiseAbs() - N1.cwiseAbs().colwise().sum().transpose() - h2).maxCoeff() > f.tol) return false;
   // Diagonal p over axes (i, j) is slab 3 + p (u_i + u_j) and 6 + p (u_i - u_j). sqrt(2) times a box's reach
   // along it is the L1 norm of rows i +- j of N2 (b1's diagonal) or of columns i +- j of N1 (b2's). b2's slabs
   // are measured from its box centre (MovedFrame), b1's from its frame origin, as centre2.
