@@ -25,9 +25,31 @@ std::size_t meshShape(const fcl::CollisionGeometry<S>* mesh, const fcl::Transfor
                       const fcl::CollisionGeometry<S>* shape, const fcl::Transform3<S>& tf_shape,
                       const Solver* solver, const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
 {
-  // FCL's own driver (approximate-cost branch included) with our local-frame node.
-  return fcl::detail::orientedBVHShapeCollide<MeshShapeCollisionTraversalNodeRS<Shape, Solver>, RS<S>, Shape, Solver>(
-      mesh, tf_mesh, shape, tf_shape, solver, request, result);
+  // FCL's driver (fcl::detail::orientedBVHShapeCollide, approximate-cost branch included) with our local-frame
+  // node and our traversal loop.
+  if (request.isSatisfied(result)) return result.numContacts();
+  const auto& model = static_cast<const fcl::BVHModel<RS<S>>&>(*mesh);
+  const Shape& geometry = static_cast<const Shape&>(*shape);
+  const bool approximate_cost = request.enable_cost && request.use_approximate_cost;
+  fcl::CollisionRequest<S> mesh_request(request);
+  mesh_request.enable_cost = request.enable_cost && !approximate_cost;
+  MeshShapeCollisionTraversalNodeRS<Shape, Solver> node;
+  initialize(node, model, tf_mesh, geometry, tf_shape, solver, mesh_request, result);
+  collideMeshShape(node);
+  if (approximate_cost)
+  {
+    // As FCL: the cost comes from the mesh's root box against the shape.
+    fcl::Box<S> box;
+    fcl::Transform3<S> box_tf;
+    constructBox(model.getBV(0).bv, tf_mesh, box, box_tf);
+    box.cost_density = model.cost_density;
+    box.threshold_occupied = model.threshold_occupied;
+    box.threshold_free = model.threshold_free;
+    fcl::CollisionRequest<S> only_cost_request(result.numContacts(), false, request.num_max_cost_sources, true, false);
+    fcl::detail::ShapeShapeCollide<fcl::Box<S>, Shape>(&box, box_tf, shape, tf_shape, solver, only_cost_request,
+                                                       result);
+  }
+  return result.numContacts();
 }
 
 template <typename S, typename Solver>

@@ -908,6 +908,60 @@ TYPED_TEST(CollideMeshShape, PandaLinkBothOrdersMatchOBBTree)
   checkMeshShapes(link1);
 }
 
+/// fcl_rs::collide's mesh-shape driver (collideMeshShape's loop) answers as FCL's own driver and recursion
+/// (fcl::detail::orientedBVHShapeCollide) do with the same traversal node: the same contacts in the same order,
+/// and the same cost sources, exact and approximate.
+TYPED_TEST(CollideMeshShape, LoopMatchesFclsDriverOnContactsAndCosts)
+{
+  using S = TypeParam;
+  using Solver = fcl::detail::GJKSolver_libccd<S>;
+  using Node = fcl_rs::MeshShapeCollisionTraversalNodeRS<fcl::Box<S>, Solver>;
+  const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.3)));
+  torus.rs->cost_density = S(2);
+  auto box = std::make_shared<fcl::Box<S>>(S(0.5), S(0.4), S(1.5));
+  box->cost_density = S(3);
+  auto rng = fcl_rs::test::seededRng("collide/mesh-shape/fcl-driver/" + scalarName<S>());
+  std::vector<fcl::CollisionRequest<S>> requests(4, fcl::CollisionRequest<S>(100000, true));
+  requests[1].num_max_contacts = 1;
+  requests[2].enable_cost = true;
+  requests[2].num_max_cost_sources = 50;
+  requests[3] = requests[2];
+  requests[3].use_approximate_cost = true;
+  int colliding = 0, with_costs = 0;
+  for (int i = 0; i < 30; ++i)
+  {
+    const fcl::Transform3<S> tf_mesh = fcl_rs::test::randomPose<S>(rng, S(2));
+    fcl::Transform3<S> tf_box = fcl_rs::test::randomPose<S>(rng, S(1));
+    tf_box.translation() += tf_mesh.translation();
+    for (std::size_t r = 0; r < requests.size(); ++r)
+    {
+      SCOPED_TRACE("pose #" + std::to_string(i) + ", request " + std::to_string(r));
+      fcl::CollisionResult<S> ours, fcls;
+      fcl_rs::collide(torus.rs.get(), tf_mesh, box.get(), tf_box, requests[r], ours);
+      Solver solver;
+      fcl::detail::orientedBVHShapeCollide<Node, fcl_rs::RS<S>, fcl::Box<S>, Solver>(
+          torus.rs.get(), tf_mesh, box.get(), tf_box, &solver, requests[r], fcls);
+      ASSERT_EQ(ours.numContacts(), fcls.numContacts());
+      for (std::size_t c = 0; c < ours.numContacts(); ++c)
+      {
+        EXPECT_EQ(ours.getContact(c).b1, fcls.getContact(c).b1);
+        EXPECT_EQ(ours.getContact(c).pos, fcls.getContact(c).pos);
+      }
+      std::vector<fcl::CostSource<S>> our_costs, fcl_costs;
+      ours.getCostSources(our_costs);
+      fcls.getCostSources(fcl_costs);
+      ASSERT_EQ(our_costs.size(), fcl_costs.size());
+      for (std::size_t c = 0; c < our_costs.size(); ++c)
+        EXPECT_EQ(our_costs[c].total_cost, fcl_costs[c].total_cost);
+      colliding += r == 0 && ours.isCollision();
+      with_costs += r >= 2 && !our_costs.empty();
+    }
+  }
+  EXPECT_GE(colliding, 5);
+  EXPECT_LE(colliding, 25);
+  EXPECT_GE(with_costs, 10);
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 // Drop-in behaviour of fcl_rs::collide.
 

@@ -146,7 +146,7 @@ private:
     fcl::CollisionResult<S> result;
     initialize(node, *models_[a], ta, static_cast<const Shape&>(*shape.geometry), ts, &solver, request, result,
                std::make_unique<ShapeBound<S, Shape>>(shape.bv, ta.inverse(Eigen::Isometry) * ts));
-    fcl::detail::collide(&node);
+    collideMeshShape(node);
     return result.isCollision();
   }
 
