@@ -1,5 +1,6 @@
 // SurfaceAreaSplitter: trees built with it contain their triangles, answer queries exactly like the
 // brute-force oracle and FCL's mean split, need fewer BV tests, and survive degenerate meshes.
+#include <array>
 #include <memory>
 #include <random>
 #include <string>
@@ -133,7 +134,8 @@ TYPED_TEST(SurfaceAreaSplits, DegenerateMeshesBuildAndContainTheirTriangles)
   }
 }
 
-/// fcl_rs's inline node links read the same tree as FCL's out-of-line accessors, on FCL's own OBB trees too.
+/// fcl_rs's inline node links and triangle reads give what FCL's out-of-line accessors give, on FCL's own OBB
+/// trees too.
 template <typename BV>
 void expectNodeLinksMatchFcl(const fcl::BVHModel<BV>& model, const std::string& what)
 {
@@ -152,6 +154,17 @@ void expectNodeLinksMatchFcl(const fcl::BVHModel<BV>& model, const std::string& 
     EXPECT_EQ(fcl_rs::rightChild(node), node.rightChild()) << what << " node " << k;
   }
   EXPECT_EQ(leaves, model.num_tris) << what;
+  for (int i = 0; i < model.num_tris; ++i)
+  {
+    const fcl::Triangle& t = model.tri_indices[i];
+    const std::array<std::size_t, 3> ids = fcl_rs::vertexIds(t);
+    const auto vertices = fcl_rs::triangleVertices(model.vertices, t);
+    for (int c = 0; c < 3; ++c)
+    {
+      ASSERT_EQ(ids[std::size_t(c)], t[c]) << what << " triangle " << i;
+      EXPECT_EQ(vertices[std::size_t(c)], model.vertices[t[c]]) << what << " triangle " << i;
+    }
+  }
 }
 
 TYPED_TEST(SurfaceAreaSplits, NodeLinksReadWhatFclsAccessorsReturn)

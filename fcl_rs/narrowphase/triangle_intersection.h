@@ -15,6 +15,7 @@
 #define FCL_RS_NARROWPHASE_TRIANGLE_INTERSECTION_H
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -451,14 +452,17 @@ void meshTriangleLeafTesting(int b1, int b2, const fcl::BVHModel<BV>* model1, co
 {
   using S = typename BV::S;
   if (enable_statistics) num_leaf_tests++;
-  const bool occupied = model1->isOccupied() && model2->isOccupied();
-  if (!occupied && !((!model1->isFree() && !model2->isFree()) && request.enable_cost)) return;
+  // isOccupied() and isFree() written out: fcl::CollisionGeometry<double>'s members are out of line in libfcl.so.
+  const auto occupied_geometry = [](const fcl::BVHModel<BV>* m) { return m->cost_density >= m->threshold_occupied; };
+  const auto free_geometry = [](const fcl::BVHModel<BV>* m) { return m->cost_density <= m->threshold_free; };
+  const bool occupied = occupied_geometry(model1) && occupied_geometry(model2);
+  if (!occupied && !((!free_geometry(model1) && !free_geometry(model2)) && request.enable_cost)) return;
 
   const int id1 = primitiveId(model1->getBV(b1)), id2 = primitiveId(model2->getBV(b2));
-  const fcl::Triangle& t1 = tri_indices1[id1];
-  const fcl::Triangle& t2 = tri_indices2[id2];
-  const fcl::Vector3<S> p[3] = {vertices1[t1[0]], vertices1[t1[1]], vertices1[t1[2]]};
-  const fcl::Vector3<S> q[3] = {vertices2[t2[0]], vertices2[t2[1]], vertices2[t2[2]]};
+  const std::array<fcl::Vector3<S>, 3> p_vertices = triangleVertices(vertices1, tri_indices1[id1]);
+  const std::array<fcl::Vector3<S>, 3> q_vertices = triangleVertices(vertices2, tri_indices2[id2]);
+  const fcl::Vector3<S>* p = p_vertices.data();
+  const fcl::Vector3<S>* q = q_vertices.data();
   fcl::Vector3<S> q_in_a[3];  // FCL's contacts below see the same numbers
   S tolerance;
   if (!leafReports<S>(p, q, R, T, tf1.translation(), tf2.translation(), q_in_a, tolerance)) return;

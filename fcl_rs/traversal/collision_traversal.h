@@ -48,9 +48,8 @@ public:
   {
     if (this->enable_statistics) this->num_bv_tests++;
     const fcl::BVNode<RS<S>>& leaf = this->model1->getBV(b1);
-    const fcl::Triangle& t = this->tri_indices1[primitiveId(leaf)];
-    const fcl::Vector3<S> p[3] = {this->vertices1[t[0]], this->vertices1[t[1]], this->vertices1[t[2]]};
-    return !detail::triangleOverlap(p, leaf.bv, moved2, this->model2->getBV(b2).bv);
+    const auto p = triangleVertices(this->vertices1, this->tri_indices1[primitiveId(leaf)]);
+    return !detail::triangleOverlap(p.data(), leaf.bv, moved2, this->model2->getBV(b2).bv);
   }
 
   /// BVTesting of model1's inner node b1 against model2's leaf b2: b1's nine slabs against the leaf's triangle.
@@ -58,9 +57,8 @@ public:
   {
     if (this->enable_statistics) this->num_bv_tests++;
     const fcl::BVNode<RS<S>>& leaf = this->model2->getBV(b2);
-    const fcl::Triangle& t = this->tri_indices2[primitiveId(leaf)];
-    const fcl::Vector3<S> q[3] = {this->vertices2[t[0]], this->vertices2[t[1]], this->vertices2[t[2]]};
-    return !detail::triangleOverlap(this->model1->getBV(b1).bv, R, T, q, leaf.bv, world_offsets);
+    const auto q = triangleVertices(this->vertices2, this->tri_indices2[primitiveId(leaf)]);
+    return !detail::triangleOverlap(this->model1->getBV(b1).bv, R, T, q.data(), leaf.bv, world_offsets);
   }
 
   void leafTesting(int b1, int b2) const override

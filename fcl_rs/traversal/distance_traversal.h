@@ -3,6 +3,7 @@
 #define FCL_RS_DISTANCE_TRAVERSAL_H
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <memory>
 #include <type_traits>
@@ -180,10 +181,10 @@ void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
     if (!isLeaf(model1.getBV(b1)) || !isLeaf(model2.getBV(b2)))
       return node.Node::BVTesting(b1, b2, moved(b2));
     const int id1 = primitiveId(model1.getBV(b1)), id2 = primitiveId(model2.getBV(b2));
-    const fcl::Triangle& t1 = node.tri_indices1[id1];
-    const fcl::Triangle& t2 = node.tri_indices2[id2];
-    const V p[3] = {node.vertices1[t1[0]], node.vertices1[t1[1]], node.vertices1[t1[2]]};
-    const V q[3] = {movedVertex(t2[0]), movedVertex(t2[1]), movedVertex(t2[2])};
+    const auto p_vertices = triangleVertices(node.vertices1, node.tri_indices1[id1]);
+    const V* p = p_vertices.data();
+    const std::array<std::size_t, 3> t2 = vertexIds(node.tri_indices2[id2]);
+    const V q[3] = {movedVertex(int(t2[0])), movedVertex(int(t2[1])), movedVertex(int(t2[2]))};
     if (!leafCannotImprove(p, q, node.result->min_distance))
     {
       if (node.enable_statistics) node.num_leaf_tests++;
@@ -315,12 +316,11 @@ private:
   /// in its own object's frame (here moved to the world frame, like every other shape's).
   void triangleDistance(int primitive_id) const
   {
-    const fcl::Triangle& t = this->tri_indices[primitive_id];
+    const auto t = triangleVertices(this->vertices, this->tri_indices[primitive_id]);
     S d = -1;
     fcl::Vector3<S> on_mesh = fcl::Vector3<S>::Zero(), on_shape = fcl::Vector3<S>::Zero();
-    const bool apart =
-        this->nsolver->shapeTriangleDistance(*this->model2, this->tf2, this->vertices[t[0]], this->vertices[t[1]],
-                                             this->vertices[t[2]], this->tf1, &d, &on_shape, &on_mesh);
+    const bool apart = this->nsolver->shapeTriangleDistance(*this->model2, this->tf2, t[0], t[1], t[2], this->tf1, &d,
+                                                            &on_shape, &on_mesh);
     if (std::is_same<Shape, fcl::Sphere<S>>::value && apart)
     {
       on_shape = this->tf2 * on_shape;
