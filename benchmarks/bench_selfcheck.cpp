@@ -251,8 +251,8 @@ int main(int argc, char** argv)
       {
         const Row& base = obbrssRow(rows, r.robot);
         csv.row({r.robot, fcl_rs::bvTypeName(r.bv), r.configs, r.pairs, r.build_ms, r.us_check, r.us_first,
-                 ratio(r.us_check, base.us_check), r.us_cold, ratio(r.us_cold, base.us_cold), r.bv_tests, ratio(r.bv_tests, base.bv_tests), r.tri_tests,
-                 r.colliding_share, r.disagreements});
+                 ratio(r.us_check, base.us_check), r.us_cold, ratio(r.us_cold, base.us_cold), r.bv_tests,
+                 ratio(r.bv_tests, base.bv_tests), r.tri_tests, r.colliding_share, r.disagreements});
       }
       csv.close();
     }

@@ -115,8 +115,6 @@ void addOptions(CLI::App& app, Options& opt)
 // ---------------------------------------------------------------------------------------------------
 // Inputs
 
-std::vector<MeshPair> defaultPairs() { return comparePairs(FCL_RS_ASSIMP_MODELS_DIR, FCL_RS_SHARED_DATA_DIR); }
-
 std::vector<MeshPair> filePairs(const Options& opt)
 {
   std::vector<MeshPair> pairs;
@@ -669,7 +667,7 @@ int main(int argc, char** argv)
   std::vector<MeshPair> pairs;
   try
   {
-    pairs = opt.files.empty() ? defaultPairs() : filePairs(opt);
+    pairs = opt.files.empty() ? comparePairs(FCL_RS_ASSIMP_MODELS_DIR, FCL_RS_SHARED_DATA_DIR) : filePairs(opt);
   }
   catch (const std::exception& e)
   {

@@ -714,9 +714,7 @@ template <typename S>
 bool triangleOverlap(const RS<S>& b1, const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const fcl::Vector3<S> q[3],
                      const RS<S>& leaf2, S world_offsets)
 {
-  const fcl::Vector3<S> y[3] = {b1.axis.transpose() * (R * q[0] + T - b1.origin),
-                                b1.axis.transpose() * (R * q[1] + T - b1.origin),
-                                b1.axis.transpose() * (R * q[2] + T - b1.origin)};
+  const fcl::Vector3<S> y[3] = {b1.toFrame(R * q[0] + T), b1.toFrame(R * q[1] + T), b1.toFrame(R * q[2] + T)};
   const S largest_q = std::max({q[0].template lpNorm<1>(), q[1].template lpNorm<1>(), q[2].template lpNorm<1>()});
   const S offsets = largest_q + T.template lpNorm<1>() + world_offsets + b1.origin.template lpNorm<1>();
   return triangleMeetsSlabs(y, b1, pairRoundingBound<S>(offsets, Box<S>(b1).reach() + Box<S>(leaf2).reach()));

@@ -126,8 +126,6 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
     const fcl::BVNode<RS<S>>& n1 = model1.getBV(b1);
     const fcl::BVNode<RS<S>>& n2 = model2.getBV(b2);
     const bool leaf1 = isLeaf(n1), leaf2 = isLeaf(n2);
-    // (Written out: a helper for the size rule costs 1-3 % more instructions, gcc 12.)
-    constexpr S ratio = kTriangleTestMaxSizeRatio;
     bool done = true;
     if (leaf1 && leaf2)
     {
@@ -136,6 +134,8 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
     }
     else
     {
+      // (Written out: a helper for the size rule costs 1-3 % more instructions, gcc 12.)
+      constexpr S ratio = kTriangleTestMaxSizeRatio;
       done = leaf1 && n1.bv.size() <= ratio * n2.bv.size()   ? node.leafTriangleTesting(b1, b2, moved(b2))
              : leaf2 && n2.bv.size() <= ratio * n1.bv.size() ? node.leafTriangleTesting(b1, b2)
                                                               : node.MeshCollisionTraversalNodeRS<S>::BVTesting(b1, b2, moved(b2));
@@ -178,21 +178,28 @@ template <typename S, typename Shape>
 class ShapeBound
 {
 public:
-  ShapeBound(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh)
-  {
-    fcl::computeBV(shape, shape_in_mesh, bv_);
-    moved_ = detail::MovedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_);
-  }
+  ShapeBound(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh) : ShapeBound(fitted(shape, shape_in_mesh)) {}
   /// From the shape's RS fitted in its own frame (placeShapeRS), for a shape queried many times.
   ShapeBound(const RS<S>& bv_in_shape, const fcl::Transform3<S>& shape_in_mesh)
-    : bv_(placeShapeRS(bv_in_shape, shape_in_mesh)),
-      moved_(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_)
+    : ShapeBound(placeShapeRS(bv_in_shape, shape_in_mesh))
   {
   }
   /// node.overlap(bv_), with bv_'s frame moved once per query.
   bool overlaps(const RS<S>& node) const { return detail::overlap(moved_, node, bv_, kDefaultOverlapTest); }
 
 private:
+  /// bv_in_mesh: the shape's RS in the mesh's frame.
+  explicit ShapeBound(const RS<S>& bv_in_mesh)
+    : bv_(bv_in_mesh), moved_(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_)
+  {
+  }
+  static RS<S> fitted(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh)
+  {
+    RS<S> bv;
+    fcl::computeBV(shape, shape_in_mesh, bv);
+    return bv;
+  }
+
   RS<S> bv_;
   detail::MovedFrame<S> moved_;
 };
