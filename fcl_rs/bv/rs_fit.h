@@ -25,9 +25,10 @@
 namespace fcl_rs {
 
 /// A value standing for "unbounded" in slabs of planes and halfspaces: finite, so that corner
-/// arithmetic stays finite, and small enough that sums of a few of them cannot overflow.
+/// arithmetic stays finite, and small enough that sums of a few of them cannot overflow; within the
+/// range of the stored slabs (RS::Stored), whatever S is.
 template <typename S>
-constexpr S unboundedSlab() { return std::numeric_limits<S>::max() / S(1024); }
+constexpr S unboundedSlab() { return S(std::numeric_limits<typename RS<S>::Stored>::max() / 1024); }
 
 /// RS of the set {x : lower <= n.x <= upper} (unit n; a plane when lower == upper).
 template <typename S>
@@ -40,8 +41,8 @@ RS<S> slabRS(const fcl::Vector3<S>& n, S lower, S upper)
   RS<S> bv(axis, fcl::Vector3<S>::Zero());
   bv.lo.setConstant(-unboundedSlab<S>());
   bv.hi.setConstant(unboundedSlab<S>());
-  bv.lo[0] = lower;
-  bv.hi[0] = upper;
+  bv.lo[0] = RS<S>::slabBelow(lower);
+  bv.hi[0] = RS<S>::slabAbove(upper);
   return bv;
 }
 
@@ -52,11 +53,16 @@ template <typename S, typename Support>
 RS<S> symmetricShapeRS(const fcl::Transform3<S>& tf, Support support)
 {
   RS<S> bv(tf.linear(), tf.translation());
-  // Points of the shape reach the frame through tf's rounding: a few ulps of their magnitude.
-  const S pad = 8 * std::numeric_limits<S>::epsilon() * tf.translation().template lpNorm<1>();
+  // Points of the shape reach the frame through tf's rounding: a few ulps of their magnitude. The stored frame A
+  // is tf's rotation L rounded: a shape point s (in the box of the face supports) is at A^T L s, within
+  // sqrt(2) storageEps / 2 |s|_1 of s along a slab direction.
+  S extreme[kNumSlabs];
+  for (int k = 0; k < kNumSlabs; ++k) extreme[k] = support(detail::slabDirection<S>(k));
+  const S pad = 8 * std::numeric_limits<S>::epsilon() * tf.translation().template lpNorm<1>() +
+                detail::storageEps<S>() * (extreme[0] + extreme[1] + extreme[2]);
   for (int k = 0; k < kNumSlabs; ++k)
   {
-    bv.hi[k] = support(detail::slabDirection<S>(k)) * (1 + 8 * std::numeric_limits<S>::epsilon()) + pad;
+    bv.hi[k] = RS<S>::slabAbove(extreme[k] * (1 + 8 * std::numeric_limits<S>::epsilon()) + pad);
     bv.lo[k] = -bv.hi[k];
   }
   bv.updateBoxExcess();
@@ -69,7 +75,7 @@ void constructBox(const RS<S>& bv, const fcl::Transform3<S>& tf_bv, fcl::Box<S>&
 {
   box = fcl::Box<S>(bv.width(), bv.height(), bv.depth());
   fcl::Transform3<S> local = fcl::Transform3<S>::Identity();
-  local.linear() = bv.axis;
+  local.linear() = bv.axes();
   local.translation() = bv.center();
   tf = tf_bv * local;
 }
@@ -245,6 +251,13 @@ struct Fitter<S, fcl_rs::RS<S>>
   {
     fcl_rs::fit(ps, n, bv);
   }
+};
+
+/// FCL's computeSplitVector reads bv.axis.col(0) into a Vector3<S>; RS stores its frame narrower than S.
+template <typename S>
+struct ComputeSplitVectorImpl<S, fcl_rs::RS<S>>
+{
+  static void run(const fcl_rs::RS<S>& bv, Vector3<S>& split_vector) { split_vector = bv.axes().col(0); }
 };
 
 /// Splits run along the node's own principal axis u0 (not a world axis).
