@@ -247,19 +247,29 @@ private:
 template <std::size_t N>
 RSd kdopAsRS(const fcl::KDOP<S, N>& bv)
 {
-  RSd rs(fcl::Matrix3d::Identity(), Vector3d::Zero());
+  // Slabs are stored in float: measure them from the box centre, not the model origin, so a small node far
+  // from the origin keeps its shape.
   const std::size_t half = N / 2;
+  const Vector3d centre((bv.dist(0) + bv.dist(half)) / 2, (bv.dist(1) + bv.dist(1 + half)) / 2,
+                        (bv.dist(2) + bv.dist(2 + half)) / 2);
+  RSd rs(fcl::Matrix3d::Identity(), centre);
+  double lo[9], hi[9];
   for (std::size_t k = 0; k < 9; ++k)
   {
     if (k >= half) break;
-    const double scale = k < 3 ? 1.0 : M_SQRT1_2;
-    rs.lo[int(k)] = bv.dist(k) * scale;
-    rs.hi[int(k)] = bv.dist(k + half) * scale;
+    const double scale = k < 3 ? 1.0 : M_SQRT1_2, shift = fcl_rs::projectOnSlab(centre, int(k));
+    lo[k] = bv.dist(k) * scale - shift;
+    hi[k] = bv.dist(k + half) * scale - shift;
   }
   if (half < 9)
   {
-    rs.lo[8] = (rs.lo[1] - rs.hi[2]) * M_SQRT1_2;
-    rs.hi[8] = (rs.hi[1] - rs.lo[2]) * M_SQRT1_2;
+    lo[8] = (lo[1] - hi[2]) * M_SQRT1_2;
+    hi[8] = (hi[1] - lo[2]) * M_SQRT1_2;
+  }
+  for (int k = 0; k < 9; ++k)
+  {
+    rs.lo[k] = RSd::slabBelow(lo[k]);
+    rs.hi[k] = RSd::slabAbove(hi[k]);
   }
   return rs;
 }

@@ -57,12 +57,13 @@ std::vector<fcl::Vector3<S>> points(FuzzedDataProvider& in)
 template <typename S>
 void checkVolume(const fcl_rs::RS<S>& bv, const std::vector<fcl::Vector3<S>>& pts, const char* what)
 {
-  const S eps = std::numeric_limits<S>::epsilon();
+  const S eps = std::numeric_limits<typename fcl_rs::RS<S>::Stored>::epsilon();  // the frame's storage precision
   if (!bv.axis.allFinite() || !bv.origin.allFinite() || !bv.lo.allFinite() || !bv.hi.allFinite() || bv.empty())
     violation(what);
-  if ((bv.axis.transpose() * bv.axis - fcl::Matrix3<S>::Identity()).cwiseAbs().maxCoeff() > 16 * eps)
+  const fcl::Matrix3<S> A = bv.axes();
+  if ((A.transpose() * A - fcl::Matrix3<S>::Identity()).cwiseAbs().maxCoeff() > 16 * eps)
     violation("frame is not orthonormal");
-  if ((bv.axis.col(0).cross(bv.axis.col(1)) - bv.axis.col(2)).cwiseAbs().maxCoeff() > 16 * eps)
+  if ((A.col(0).cross(A.col(1)) - A.col(2)).cwiseAbs().maxCoeff() > 16 * eps)
     violation("frame is not right-handed");
   for (std::size_t i = 0; i < pts.size(); ++i)
     if (!bv.contain(pts[i])) violation(what, int(i));

@@ -62,8 +62,11 @@ TYPED_TEST(ExportTest, RSPolytopeIsTheExactVolumeAndContainsItsPoints)
     // The solid is built in double from the volume's numbers; RS<float>::volume() rounds in float.
     const double tol = std::is_same<S, double>::value ? 1e-9 : 1e-4;
     EXPECT_NEAR(poly.volume(), double(bv.volume()), tol * double(bv.volume())) << "trial " << trial;
+    // Slabs are stored in float, each rounded outward on its own: a chamfer can cut within a float ulp of a
+    // box corner and leave a facet with edges of ~1e-7, whose normal double rounding fixes only to ~1e-8;
+    // such facets (cross product below 1e-4) are skipped, their neighbours' planes bound the points there.
     for (const auto& p : points)
-      EXPECT_TRUE(insideTriangles(poly.vertices, trianglesOf(poly), p.template cast<double>(), 1e-9))
+      EXPECT_TRUE(insideTriangles(poly.vertices, trianglesOf(poly), p.template cast<double>(), 1e-9, 1e-4))
           << "trial " << trial;
   }
 }

@@ -223,14 +223,15 @@ struct Built
 template <typename S>
 bool checkTree(const Model<S>& model, const std::string& what)
 {
-  const S eps = std::numeric_limits<S>::epsilon();
+  const S eps = std::numeric_limits<typename fcl_rs::RS<S>::Stored>::epsilon();  // the frame's storage precision
   int failures = 0;
   for (int i = 0; i < model.getNumBVs() && failures < kMaxFailures; ++i)
   {
     const auto& bv = model.getBV(i).bv;
     const bool finite = bv.axis.allFinite() && bv.origin.allFinite() && bv.lo.allFinite() && bv.hi.allFinite();
-    const S ortho = (bv.axis.transpose() * bv.axis - fcl::Matrix3<S>::Identity()).cwiseAbs().maxCoeff();
-    const S handed = (bv.axis.col(0).cross(bv.axis.col(1)) - bv.axis.col(2)).cwiseAbs().maxCoeff();
+    const fcl::Matrix3<S> A = bv.axes();
+    const S ortho = (A.transpose() * A - fcl::Matrix3<S>::Identity()).cwiseAbs().maxCoeff();
+    const S handed = (A.col(0).cross(A.col(1)) - A.col(2)).cwiseAbs().maxCoeff();
     if (!finite || bv.empty() || !(ortho <= kFrameUlps * eps) || !(handed <= kFrameUlps * eps))
     {
       ++failures;

@@ -39,8 +39,8 @@ struct RSInterface
   static_assert(std::is_same<decltype(std::declval<const BV&>().depth()), S>::value, "depth");
   static_assert(std::is_same<decltype(std::declval<const BV&>().volume()), S>::value, "volume");
   static_assert(std::is_same<decltype(std::declval<const BV&>().size()), S>::value, "traversal order");
-  static_assert(std::is_same<decltype(BV::axis), fcl::Matrix3<S>>::value,
-                "FCL's computeSplitVector reads bv.axis.col(0)");
+  static_assert(std::is_same<decltype(std::declval<const BV&>().axes()), fcl::Matrix3<S>>::value,
+                "the frame in S (FCL's computeSplitVector reads it through ComputeSplitVectorImpl)");
   static_assert(std::is_same<decltype(fcl_rs::overlap(std::declval<const fcl::Matrix3<S>&>(),
                                                       std::declval<const fcl::Vector3<S>&>(), std::declval<const BV&>(),
                                                       std::declval<const BV&>())), bool>::value,

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "fcl_rs/bv/pca.h"
@@ -17,6 +18,38 @@ namespace detail {
 
 template <typename S>
 constexpr S eps() { return std::numeric_limits<S>::epsilon(); }
+
+/// The unit of storage rounding: eps of RS::Stored when it is narrower than S, else 0 (nothing is rounded).
+template <typename S>
+constexpr S storageEps()
+{
+  if constexpr (std::is_same_v<S, typename RS<S>::Stored>)
+    return 0;
+  else
+    return S(eps<typename RS<S>::Stored>());
+}
+
+/// What storing a volume in RS::Stored costs anything computed from two volumes (pairRoundingBound carries it,
+/// contain() and merges too), for reach = the volumes' reaches (Box::reach) summed. With v = storageEps<S>():
+///  - slabs: each is rounded outward on its own, so the 18 values stop being one support function by up to an
+///    ulp each, <= sqrt(2) v reach (a flat leaf's chamfers, rounded at the leaf's size, pass its thin box by
+///    that much). Corners and SupportCorner's values are piecewise linear in the slab values, with coefficient
+///    magnitudes summing below 30: they move by < 43 v reach. Faces and principal boxes need none of it (each
+///    stored slab contains the points on its own).
+///  - frames: a frame rounded to nearest, A = fl(Q) for an orthonormal Q, has |A^T A - I| <= v per entry, so
+///    its inverse transpose (which maps frame coordinates to model ones: x = o + A^-T y, as the fit measured
+///    y = A^T (x - o)) differs from A by <= sqrt(3) v per column (2-norm). The pair kernel uses A for both, so M =
+///    A1^T (R A2) is off by <= sqrt(3) v <= 2v per entry against the exact maps b2 -> b1 (A1^T R A2^-T) and b1
+///    -> b2 (A1^-1 R A2), as are the moved box centres (the comment above pairRoundingBound follows M's error
+///    through the comparisons: a point y2 moves by m |y2|_1 for a per-entry error m, the worst comparison (a
+///    diagonal of b2, sqrt(2) scale) by <= 34 m reaches), i.e. <= 48 v reaches on the unit scale.
+/// First-order total <= 91 v reaches; the bound is 128 v reaches (about 1.5e-5 of the volumes' size for
+/// RS<double>, 0 for RS<float>).
+template <typename S>
+S storageBound(S reach)
+{
+  return 128 * storageEps<S>() * reach;
+}
 
 /// Unit direction of slab k in frame coordinates.
 template <typename S>
@@ -62,10 +95,34 @@ RS<S>::RS() : RS(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero())
 }
 
 template <typename S>
-RS<S>::RS(const fcl::Matrix3<S>& axis_, const fcl::Vector3<S>& origin_) : axis(axis_), origin(origin_)
+RS<S>::RS(const fcl::Matrix3<S>& axis_, const fcl::Vector3<S>& origin_)
+  : axis(axis_.template cast<Stored>()), origin(origin_)
 {
-  lo.setConstant(std::numeric_limits<S>::max());
-  hi.setConstant(-std::numeric_limits<S>::max());
+  lo.setConstant(std::numeric_limits<Stored>::max());
+  hi.setConstant(-std::numeric_limits<Stored>::max());
+}
+
+template <typename S>
+typename RS<S>::Stored RS<S>::slabBelow(S v)
+{
+  if constexpr (std::is_same_v<S, Stored>)
+    return v;
+  else
+  {
+    // Rounding to nearest moves a value by at most half an ulp: 2^-24 of it, or half the smallest subnormal.
+    // Stepping down by eps(float) = 2^-23 of it and the smallest subnormal first leaves the rounded value <= v,
+    // at most two ulps below the largest such float, without branches (the fit rounds 18 values per node).
+    // Past float's range, rounding to nearest gives infinity, which a lower end may only be on the low side.
+    const S stepped = v - std::abs(v) * S(std::numeric_limits<Stored>::epsilon()) -
+                      S(std::numeric_limits<Stored>::denorm_min());
+    return static_cast<Stored>(std::min(stepped, S(std::numeric_limits<Stored>::max())));
+  }
+}
+
+template <typename S>
+typename RS<S>::Stored RS<S>::slabAbove(S v)
+{
+  return -slabBelow(-v);
 }
 
 template <typename S>
@@ -82,8 +139,8 @@ void RS<S>::expandFrame(const fcl::Vector3<S>& y, S abs_err)
   for (int k = 0; k < kNumSlabs; ++k)
   {
     const S v = projectOnSlab(y, k);
-    lo[k] = std::min(lo[k], v - err);
-    hi[k] = std::max(hi[k], v + err);
+    lo[k] = std::min(lo[k], slabBelow(v - err));
+    hi[k] = std::max(hi[k], slabAbove(v + err));
   }
 }
 
@@ -99,9 +156,10 @@ void RS<S>::expandPoints(int n, PointAt point_at)
   // Rounded multiplication by a positive constant is monotone, so this gives projectOnSlab's extremes exactly.
   Array unit;
   for (int k = 0; k < kNumSlabs; ++k) unit[k] = kSlabDirections[std::size_t(k)].sign == 0 ? S(1) : S(M_SQRT1_2);
+  const fcl::Matrix3<S> A = axes();  // toFrame's, converted once
   for (int i = 0; i < n; ++i)
   {
-    const fcl::Vector3<S> y = toFrame(point_at(i));
+    const fcl::Vector3<S> y = A.transpose() * (point_at(i) - origin);
     Array v;
     for (int k = 0; k < kNumSlabs; ++k)
     {
@@ -115,8 +173,12 @@ void RS<S>::expandPoints(int n, PointAt point_at)
   if (n > 0)
   {
     const S err = 4 * detail::eps<S>() * largest_norm1;  // as expandFrame's, for the largest point
-    lo = lo.cwiseMin((low * unit - err).matrix());
-    hi = hi.cwiseMax((high * unit + err).matrix());
+    const Array lower = low * unit - err, upper = high * unit + err;
+    for (int k = 0; k < kNumSlabs; ++k)
+    {
+      lo[k] = std::min(lo[k], slabBelow(lower[k]));
+      hi[k] = std::max(hi[k], slabAbove(upper[k]));
+    }
   }
   updateBoxExcess();
 }
@@ -157,7 +219,7 @@ void RS<S>::updateBoxExcess()
       nearest = std::min({b * b + (a - b) * (a - b), c * c + (a - c) * (a - c), ab, ac});
     nearest_squared = std::max(nearest_squared, nearest);
   }
-  box_excess = std::sqrt(nearest_squared);
+  box_excess = Stored(std::sqrt(nearest_squared));
 }
 
 template <typename S>
@@ -171,8 +233,11 @@ RS<S>& RS<S>::operator+=(const RS<S>& other)
   // at the origins' magnitude, which can exceed the volumes themselves (a float merge 254 from the origin
   // missed a point by 9e-7 on a volume of 3e-4; found by fuzz_rs).
   const fcl::Vector3<S> shift = other.origin - origin;
-  const S abs_err = 8 * detail::eps<S>() * (other.magnitude() + shift.template lpNorm<1>());
-  for (const auto& c : pts) expandFrame(axis.transpose() * (shift + other.axis * c), abs_err);
+  // other.axes() * c stands for other's exact inverse transpose (storageBound).
+  const S abs_err = 8 * detail::eps<S>() * (other.magnitude() + shift.template lpNorm<1>()) +
+                    detail::storageBound(other.magnitude());
+  const fcl::Matrix3<S> A = axes(), other_axes = other.axes();
+  for (const auto& c : pts) expandFrame(A.transpose() * (shift + other_axes * c), abs_err);
   updateBoxExcess();
   return *this;
 }
@@ -292,7 +357,7 @@ struct SupportCorner
       nz(dir[2] < 0)
   {
     const S flip[2] = {S(1), S(-1)};
-    const S* const ends[2] = {rs.hi.data(), rs.lo.data()};
+    const typename RS<S>::Stored* const ends[2] = {rs.hi.data(), rs.lo.data()};
     auto end = [&](int neg, int k) { return flip[neg] * ends[neg][k]; };
     X = end(nx, 0);
     Y = end(ny, 1);
@@ -356,7 +421,7 @@ bool RS<S>::contain(const fcl::Vector3<S>& p) const
 {
   if (empty()) return false;
   const fcl::Vector3<S> y = toFrame(p);
-  const S tol = 8 * detail::eps<S>() * (y.template lpNorm<1>() + magnitude());
+  const S tol = 8 * detail::eps<S>() * (y.template lpNorm<1>() + magnitude()) + detail::storageBound(magnitude());
   for (int k = 0; k < kNumSlabs; ++k)
   {
     const S v = projectOnSlab(y, k);
@@ -375,17 +440,17 @@ template <typename S>
 fcl::Vector3<S> RS<S>::center() const
 {
   if (empty()) return origin;
-  return toModel(fcl::Vector3<S>((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2));
+  return toModel((lo.template head<3>().template cast<S>() + hi.template head<3>().template cast<S>()) / 2);
 }
 
 template <typename S>
-S RS<S>::width() const { return empty() ? S(0) : hi[0] - lo[0]; }
+S RS<S>::width() const { return empty() ? S(0) : S(hi[0]) - S(lo[0]); }
 
 template <typename S>
-S RS<S>::height() const { return empty() ? S(0) : hi[1] - lo[1]; }
+S RS<S>::height() const { return empty() ? S(0) : S(hi[1]) - S(lo[1]); }
 
 template <typename S>
-S RS<S>::depth() const { return empty() ? S(0) : hi[2] - lo[2]; }
+S RS<S>::depth() const { return empty() ? S(0) : S(hi[2]) - S(lo[2]); }
 
 template <typename S>
 S RS<S>::size() const
@@ -438,7 +503,9 @@ S RS<S>::volume() const
       area += (poly[i] - poly[0]).cross(poly[i + 1] - poly[0]).dot(n);
     total += 0.5 * std::abs(area) * (h - n.dot(c)) / 3;
   }
-  return S(std::max(0.0, total));
+  // That is the polytope in frame coordinates; the volume is its image x = origin + A^-T y under the stored
+  // frame A, orthonormal only up to its storage.
+  return S(std::max(0.0, total) / std::abs(axis.template cast<double>().determinant()));
 }
 
 namespace detail {
@@ -449,7 +516,8 @@ struct Box
 {
   Box() = default;
   explicit Box(const RS<S>& b)
-    : c((b.lo.template head<3>() + b.hi.template head<3>()) / 2), h((b.hi.template head<3>() - b.lo.template head<3>()) / 2)
+    : c((b.lo.template head<3>().template cast<S>() + b.hi.template head<3>().template cast<S>()) / 2),
+      h((b.hi.template head<3>().template cast<S>() - b.lo.template head<3>().template cast<S>()) / 2)
   {
   }
   /// How far the box reaches from its frame's origin along an axis; every slab value of the volume is at most
@@ -463,7 +531,8 @@ struct Box
 /// `offsets` is the L1 size of the translations the relative frame is built from (|R o2|_1 + |T|_1 + |o1|_1),
 /// `reaches` the sum of both boxes' reach(). With u = eps:
 ///  - M = A1^T (R A2): two nested 3-term dot products of entries <= 1, plus the stored frames' departure from
-///    orthonormality (the fits pad for the rounding of A^T x, not for A^-T = A): <= 16u per entry, so a point
+///    orthonormality at S's precision (the fits pad for the rounding of A^T x, not for A^-T = A; a frame stored
+///    narrower than S departs further, storageBound below): <= 16u per entry, so a point
 ///    y2 of b2 (|y2|_1 <= 3 reach2) moves by <= 48u reach2, and a vector v by <= 16u |v|_1;
 ///  - b2's box centre in b1's frame, A1^T ((R o2 + T) + (R A2) c2 - o1): the translations carry <= 8u offsets
 ///    per coordinate, the centre (|c2|_1 <= 3 reach2) <= 40u reach2; d = centre2 - c1 is within
@@ -488,10 +557,16 @@ struct Box
 /// from the origin (|t| >> the meshes and T) that is the largest term, and without it grazing pairs that
 /// touch in the world frame are culled. The leaf test's tolerance (narrowphase/triangle_intersection.h)
 /// carries the same term.
+/// Plus storageBound(reaches + separation): the same errors where they come from storing the volumes narrower
+/// than S (a float frame's departure from orthonormality, slabs rounded outward one by one), 0 for RS<float>.
+/// `separation` is |d|_1, the box centres' distance in b1's frame: M's storage error maps it into b2's frame (e =
+/// -M^T d, centre1()). At S's precision the offsets cover it; at storage precision they would cost far-away
+/// volumes all pruning, while the separation only costs volumes farther apart than their own size (overlapping
+/// volumes have |d|_1 <= 3 reach1 + 3 sqrt(3) reach2; the distance bounds need it).
 template <typename S>
-S pairRoundingBound(S offsets, S reaches)
+S pairRoundingBound(S offsets, S reaches, S separation = 0)
 {
-  return 32 * eps<S>() * (offsets + 16 * reaches);
+  return 32 * eps<S>() * (offsets + 16 * reaches) + storageBound(reaches + separation);
 }
 
 /// sqrt(2) times the projections of frame coordinates v on the six diagonal slab directions, in kSlabDirections'
@@ -517,13 +592,14 @@ struct MovedFrame
   MovedFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2, S world_offsets = 0) : box(b2)
   {
     const fcl::Vector3<S> o2 = R * b2.origin;
-    axis.noalias() = R.lazyProduct(b2.axis);
+    axis.noalias() = R.lazyProduct(b2.axes());
     origin = o2 + T;
     centre.noalias() = axis * box.c + origin;
     offsets = o2.template lpNorm<1>() + T.template lpNorm<1>() + world_offsets;
     reach = box.reach();
     const S scale = S(M_SQRT1_2);
-    const auto lo = b2.lo.template tail<6>().array(), hi = b2.hi.template tail<6>().array();
+    const auto lo = b2.lo.template tail<6>().template cast<S>().array();
+    const auto hi = b2.hi.template tail<6>().template cast<S>().array();
     diagonal_mid = (lo + hi) * scale - scaledDiagonals(box.c);
     diagonal_half = (hi - lo) * scale;
   }
@@ -555,9 +631,11 @@ struct PairFrame
   /// moved2 = MovedFrame(R, T, b2).
   PairFrame(const MovedFrame<S>& moved2, const RS<S>& b1) : box1(b1), box2(moved2.box)
   {
-    M.noalias() = b1.axis.transpose().lazyProduct(moved2.axis);
-    centre2.noalias() = b1.axis.transpose() * (moved2.centre - b1.origin);
-    tol = pairRoundingBound<S>(moved2.offsets + b1.origin.template lpNorm<1>(), box1.reach() + moved2.reach);
+    const fcl::Matrix3<S> A1 = b1.axes();
+    M.noalias() = A1.transpose().lazyProduct(moved2.axis);
+    centre2.noalias() = A1.transpose() * (moved2.centre - b1.origin);
+    tol = pairRoundingBound<S>(moved2.offsets + b1.origin.template lpNorm<1>(), box1.reach() + moved2.reach,
+                               storageEps<S>() > 0 ? (centre2 - box1.c).template lpNorm<1>() : S(0));
   }
 
   /// b2's frame origin in b1's frame: y1 = M y2 + t maps b2's frame into b1's.
@@ -637,8 +715,8 @@ bool boxedOverlap(const MovedFrame<S>& moved2, const RS<S>& b1)
   // along it is the L1 norm of rows i +- j of N2 (b1's diagonal) or of columns i +- j of N1 (b2's). b2's slabs
   // are measured from its box centre (MovedFrame), b1's from its frame origin, as centre2.
   const S scale = S(M_SQRT1_2);
-  const S* lo = b1.lo.data() + 3;
-  const S* hi = b1.hi.data() + 3;
+  const Eigen::Array<S, 6, 1> lo = b1.lo.template tail<6>().template cast<S>().array();
+  const Eigen::Array<S, 6, 1> hi = b1.hi.template tail<6>().template cast<S>().array();
   S worst = -std::numeric_limits<S>::max();
   // A lambda inlined by force: gcc 12 calls it three times otherwise (about 40 more instructions per test).
   const auto axisPair = [&](int p, int i, int j) __attribute__((always_inline)) {
@@ -822,8 +900,8 @@ S distance(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, 
   int best_k = 0;
   for (int k = 0; k < 2 * kNumSlabs; ++k)
   {
-    const S gap = k < kNumSlabs ? detail::slabGap(b1.lo[k], b1.hi[k], b2, f.box2, on1, k)
-                                : detail::slabGap(b2.lo[k - kNumSlabs], b2.hi[k - kNumSlabs], b1, f.box1, on2,
+    const S gap = k < kNumSlabs ? detail::slabGap<S>(b1.lo[k], b1.hi[k], b2, f.box2, on1, k)
+                                : detail::slabGap<S>(b2.lo[k - kNumSlabs], b2.hi[k - kNumSlabs], b1, f.box1, on2,
                                                   k - kNumSlabs);
     if (gap > best) { best = gap; best_k = k; }
   }
@@ -863,9 +941,25 @@ void fit(const fcl::Vector3<S>* const points, int n, RS<S>& bv)
 template <typename S>
 RS<S> transform(const RS<S>& bv, const fcl::Transform3<S>& tf)
 {
-  RS<S> moved = bv;
-  moved.axis = tf.linear() * bv.axis;
-  moved.origin = tf * bv.origin;
+  const fcl::Matrix3<S> axis = tf.linear() * bv.axes();
+  RS<S> moved(axis, tf * bv.origin);
+  moved.box_excess = bv.box_excess;
+  // The moved frame is rounded to storage again: the slabs are padded by what that moves the points by, unless
+  // storage holds the moved frame exactly (a rotation by a permutation, the identity), so that placing a volume
+  // at the identity leaves it as it is.
+  if (bv.empty() || moved.axes() == axis)
+  {
+    moved.lo = bv.lo;
+    moved.hi = bv.hi;
+    return moved;
+  }
+  const S pad = detail::storageBound(bv.magnitude());
+  for (int k = 0; k < kNumSlabs; ++k)
+  {
+    moved.lo[k] = RS<S>::slabBelow(S(bv.lo[k]) - pad);
+    moved.hi[k] = RS<S>::slabAbove(S(bv.hi[k]) + pad);
+  }
+  moved.updateBoxExcess();
   return moved;
 }
 

@@ -22,27 +22,46 @@ class RS
 {
 public:
   using S = S_;
-  using Slabs = Eigen::Matrix<S, kNumSlabs, 1>;
+  /// A volume is stored in float whatever S is, except its origin: a BVNode<RS<double>> is 152 bytes instead of
+  /// 264 (FCL's OBB<double> node: 136). Slab values are rounded outward (lo down, hi up: slabBelow, slabAbove)
+  /// and measured from the origin, the points' mean, so they stay small far from the model origin; the frame is
+  /// rounded to nearest before any slab is computed against it, so the stored volume contains every point as
+  /// the fit computed it. What storage costs the pair tests (a float frame is orthonormal only to ~1e-7, and
+  /// the 18 rounded slabs are no longer one support function) is detail::storageBound, part of every pair
+  /// test's rounding bound: pruning only, about 1e-5 of the volumes' size.
+  using Stored = float;
+  using Slabs = Eigen::Matrix<Stored, kNumSlabs, 1>;
+  using Axes = Eigen::Matrix<Stored, 3, 3>;
 
-  /// Orthonormal right-handed frame; columns are u0, u1, u2 (u0 = largest principal variance).
-  fcl::Matrix3<S> axis;
-  /// Frame origin in model coordinates (the mean of the fitted points).
-  fcl::Vector3<S> origin;
-  /// Slab intervals along the nine unit directions, in frame coordinates.
-  Slabs lo;
-  Slabs hi;
+  /// Right-handed frame, orthonormal up to its storage; columns are u0, u1, u2 (u0 = largest principal
+  /// variance). Read it in S through axes().
+  Axes axis;
   /// Upper bound on how far the principal box reaches past the polytope along any unit direction.
   /// Overlap tests use it to skip exact supports wherever the box bound already decides; every
   /// member that grows the volume keeps it current (call updateBoxExcess() after writing lo/hi
   /// directly). Too small only costs pruning, never a missed contact: 0 makes the test boxed.
-  S box_excess = 0;
+  /// (Stored next to axis, where it fills the float frame's padding.)
+  Stored box_excess = 0;
+  /// Frame origin in model coordinates (the mean of the fitted points).
+  fcl::Vector3<S> origin;
+  /// Slab intervals along the nine unit directions, in frame coordinates. Write them through slabBelow and
+  /// slabAbove: a value rounded to nearest can cut a point off.
+  Slabs lo;
+  Slabs hi;
 
   /// Empty volume in the identity frame at the model origin.
   RS();
-  /// Empty volume in the given frame.
+  /// Empty volume in the given frame (rounded to the stored one).
   RS(const fcl::Matrix3<S>& axis, const fcl::Vector3<S>& origin);
 
   bool empty() const;
+
+  /// A stored slab value <= v (for lo) and one >= v (for hi), each within two float ulps of v.
+  static Stored slabBelow(S v);
+  static Stored slabAbove(S v);
+
+  /// The stored frame in S.
+  fcl::Matrix3<S> axes() const { return axis.template cast<S>(); }
 
   /// Grows the intervals (in the current frame) to contain p. On an empty volume the origin moves to p.
   RS& operator+=(const fcl::Vector3<S>& p);
@@ -82,8 +101,10 @@ public:
   /// Largest absolute slab value; the scale of the rounding error of anything derived from the volume.
   S magnitude() const;
 
-  fcl::Vector3<S> toFrame(const fcl::Vector3<S>& p) const { return axis.transpose() * (p - origin); }
-  fcl::Vector3<S> toModel(const fcl::Vector3<S>& y) const { return axis * y + origin; }
+  /// Frame coordinates of a model point: what defines the volume (exact but for the rounding in S).
+  fcl::Vector3<S> toFrame(const fcl::Vector3<S>& p) const { return axes().transpose() * (p - origin); }
+  /// A model point whose frame coordinates are y, up to the frame's departure from orthonormality (storageBound).
+  fcl::Vector3<S> toModel(const fcl::Vector3<S>& y) const { return axes() * y + origin; }
 
   /// Grows the intervals to contain the frame point y, widened by abs_err (its known rounding error).
   /// Leaves box_excess stale: call updateBoxExcess() when done growing.

@@ -25,9 +25,10 @@
 namespace fcl_rs {
 
 /// A value standing for "unbounded" in slabs of planes and halfspaces: finite, so that corner
-/// arithmetic stays finite, and small enough that sums of a few of them cannot overflow.
+/// arithmetic stays finite, and small enough that sums of a few of them cannot overflow; within the
+/// range of the stored slabs (RS::Stored), whatever S is.
 template <typename S>
-constexpr S unboundedSlab() { return std::numeric_limits<S>::max() / S(1024); }
+constexpr S unboundedSlab() { return S(std::numeric_limits<typename RS<S>::Stored>::max() / 1024); }
 
 /// RS of the set {x : lower <= n.x <= upper} (unit n; a plane when lower == upper).
 template <typename S>
@@ -40,8 +41,8 @@ RS<S> slabRS(const fcl::Vector3<S>& n, S lower, S upper)
   RS<S> bv(axis, fcl::Vector3<S>::Zero());
   bv.lo.setConstant(-unboundedSlab<S>());
   bv.hi.setConstant(unboundedSlab<S>());
-  bv.lo[0] = lower;
-  bv.hi[0] = upper;
+  bv.lo[0] = RS<S>::slabBelow(lower);
+  bv.hi[0] = RS<S>::slabAbove(upper);
   return bv;
 }
 
@@ -55,8 +56,12 @@ RS<S> placeShapeRS(const RS<S>& bv, const fcl::Transform3<S>& tf)
   RS<S> placed = transform(bv, tf);
   // Points of the shape reach the frame through tf's rounding: a few ulps of their magnitude.
   const S pad = 8 * std::numeric_limits<S>::epsilon() * tf.translation().template lpNorm<1>();
-  placed.lo.array() -= pad;
-  placed.hi.array() += pad;
+  if (pad == 0) return placed;  // slabBelow and slabAbove would widen stored values by an ulp
+  for (int k = 0; k < kNumSlabs; ++k)
+  {
+    placed.lo[k] = RS<S>::slabBelow(S(placed.lo[k]) - pad);
+    placed.hi[k] = RS<S>::slabAbove(S(placed.hi[k]) + pad);
+  }
   return placed;
 }
 
@@ -66,10 +71,10 @@ RS<S> placeShapeRS(const RS<S>& bv, const fcl::Transform3<S>& tf)
 template <typename S, typename Support>
 RS<S> symmetricShapeRS(const fcl::Transform3<S>& tf, Support support)
 {
-  RS<S> bv;  // the identity frame
+  RS<S> bv;  // the identity frame, exact in storage
   for (int k = 0; k < kNumSlabs; ++k)
   {
-    bv.hi[k] = support(detail::slabDirection<S>(k)) * (1 + 8 * std::numeric_limits<S>::epsilon());
+    bv.hi[k] = RS<S>::slabAbove(support(detail::slabDirection<S>(k)) * (1 + 8 * std::numeric_limits<S>::epsilon()));
     bv.lo[k] = -bv.hi[k];
   }
   bv.updateBoxExcess();
@@ -82,7 +87,7 @@ void constructBox(const RS<S>& bv, const fcl::Transform3<S>& tf_bv, fcl::Box<S>&
 {
   box = fcl::Box<S>(bv.width(), bv.height(), bv.depth());
   fcl::Transform3<S> local = fcl::Transform3<S>::Identity();
-  local.linear() = bv.axis;
+  local.linear() = bv.axes();
   local.translation() = bv.center();
   tf = tf_bv * local;
 }
@@ -258,6 +263,13 @@ struct Fitter<S, fcl_rs::RS<S>>
   {
     fcl_rs::fit(ps, n, bv);
   }
+};
+
+/// FCL's computeSplitVector reads bv.axis.col(0) into a Vector3<S>; RS stores its frame narrower than S.
+template <typename S>
+struct ComputeSplitVectorImpl<S, fcl_rs::RS<S>>
+{
+  static void run(const fcl_rs::RS<S>& bv, Vector3<S>& split_vector) { split_vector = bv.axes().col(0); }
 };
 
 /// Splits run along the node's own principal axis u0 (not a world axis).

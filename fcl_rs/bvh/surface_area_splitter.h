@@ -95,7 +95,7 @@ template <typename S>
 void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitive_indices, int num_primitives)
 {
   const int n = num_primitives;
-  normal_ = bv.axis.col(0);
+  normal_ = bv.axes().col(0);
   value_ = normal_.dot(bv.center());
   if (n < 2) return;  // a leaf: FCL's builder does not split it
   lo_.resize(std::size_t(n));
@@ -173,7 +173,7 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
   // halves; the plane through the centre set above will do.
   if (best_axis < 0) return;
   // Frame coordinate y_axis > threshold  <=>  u_axis . q > u_axis . origin + threshold.
-  normal_ = bv.axis.col(best_axis);
+  normal_ = bv.axes().col(best_axis);
   value_ = normal_.dot(bv.origin) + best_threshold;
 }
 

@@ -37,7 +37,7 @@ struct Polytope
   TriangleMesh<double> triangles() const;
 };
 
-/// A box (centre, orthonormal axes as columns, half extents >= 0) cut by half-spaces: the volume of
+/// A box (centre, axes as columns, orthonormal but for RS's stored frame, half extents >= 0) cut by half-spaces: the volume of
 /// every BV type is one, so one clipper (intersectHalfSpaces) builds them all.
 struct BoxCut
 {
@@ -66,20 +66,22 @@ const std::vector<Eigen::Vector3d>& roundDirections();
 template <typename S>
 BoxCut boxCut(const RS<S>& bv)
 {
+  // The volume is {x : lo <= d_k . A^T (x - origin) <= hi} for the stored frame A, orthonormal only up to its
+  // storage: the slabs' normals are A d_k, and frame coordinates y are at x = origin + A^-T y.
   const Eigen::Matrix3d axis = bv.axis.template cast<double>();
   const Eigen::Vector3d origin = bv.origin.template cast<double>();
   BoxCut shape;
-  shape.axes = axis;
+  shape.axes = axis.inverse().transpose();
   Eigen::Vector3d mid;
   for (int a = 0; a < 3; ++a)
   {
     mid[a] = (double(bv.lo[a]) + double(bv.hi[a])) / 2;
     shape.half_extents[a] = std::max(0.0, (double(bv.hi[a]) - double(bv.lo[a])) / 2);
   }
-  shape.center = axis * mid + origin;
+  shape.center = shape.axes * mid + origin;
   for (int k = 3; k < kNumSlabs; ++k)
   {
-    const Eigen::Vector3d n = detail::slabOfColumns<double>(axis, k);  // slab k's unit direction, model coordinates
+    const Eigen::Vector3d n = detail::slabOfColumns<double>(axis, k);  // slab k's normal, model coordinates
     shape.cuts.push_back({n, double(bv.hi[k]) + n.dot(origin)});
     shape.cuts.push_back({-n, -double(bv.lo[k]) - n.dot(origin)});
   }

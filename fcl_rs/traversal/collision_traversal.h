@@ -222,7 +222,7 @@ public:
   bool overlaps(const RS<S>& node) const
   {
     if (node.empty()) return false;
-    const fcl::Vector3<S> n = node.axis.transpose() * h_.n;
+    const fcl::Vector3<S> n = node.axes().transpose() * h_.n;
     const S lowest = h_.n.dot(node.origin) - node.support(-n);
     return lowest <= h_.d + shapeRoundingBound(node, h_.d);
   }
@@ -240,7 +240,7 @@ public:
   bool overlaps(const RS<S>& node) const
   {
     if (node.empty()) return false;
-    const fcl::Vector3<S> n = node.axis.transpose() * p_.n;
+    const fcl::Vector3<S> n = node.axes().transpose() * p_.n;
     const S at_origin = p_.n.dot(node.origin);
     const S tol = shapeRoundingBound(node, p_.d);
     return at_origin - node.support(-n) <= p_.d + tol && at_origin + node.support(n) >= p_.d - tol;
