@@ -9,6 +9,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "fcl_rs/bv/lanes.h"
 #include "fcl_rs/bv/pca.h"
 #include "fcl_rs/bv/rs.h"
 
@@ -455,7 +456,8 @@ S RS<S>::depth() const { return empty() ? S(0) : S(hi[2]) - S(lo[2]); }
 template <typename S>
 S RS<S>::size() const
 {
-  return width() * width() + height() * height() + depth() * depth();
+  // Only orders nodes (the traversals compare sizes at every split): computed in the stored precision.
+  return empty() ? S(0) : S((hi.template head<3>() - lo.template head<3>()).squaredNorm());
 }
 
 template <typename S>
@@ -515,7 +517,9 @@ template <typename S>
 struct Box
 {
   Box() = default;
-  explicit Box(const RS<S>& b)
+  /// Computed in S from any volume's stored slabs (boxedOverlap works in the storage precision).
+  template <typename VolumeS>
+  explicit Box(const RS<VolumeS>& b)
     : c((b.lo.template head<3>().template cast<S>() + b.hi.template head<3>().template cast<S>()) / 2),
       h((b.hi.template head<3>().template cast<S>() - b.lo.template head<3>().template cast<S>()) / 2)
   {
@@ -569,14 +573,28 @@ S pairRoundingBound(S offsets, S reaches, S separation = 0)
   return 32 * eps<S>() * (offsets + 16 * reaches) + storageBound(reaches + separation);
 }
 
-/// sqrt(2) times the projections of frame coordinates v on the six diagonal slab directions, in kSlabDirections'
-/// order (v_i + v_j, then v_i - v_j, over the axis pairs (0, 1), (0, 2), (1, 2)).
-template <typename Derived>
-Eigen::Array<typename Derived::Scalar, 6, 1> scaledDiagonals(const Eigen::MatrixBase<Derived>& v)
+/// pairRoundingBound of a test that computes in the storage precision C = RS<S>::Stored what PairFrame computes in
+/// S (boxedOverlap): only delta, the vector from b1's frame origin to b2's moved box centre, is formed in S and
+/// rounded to C. The derivation above holds at C's precision with delta's L1 size for the translations' offsets;
+/// the error of delta itself is pairRoundingBound's in S. Rounded to C at the end: pruning's scale, not a term.
+template <typename S>
+typename RS<S>::Stored storedPairRoundingBound(S offsets, S reaches, S separation, S delta_norm1)
 {
-  Eigen::Array<typename Derived::Scalar, 6, 1> d;
-  d << v[0] + v[1], v[0] + v[2], v[1] + v[2], v[0] - v[1], v[0] - v[2], v[1] - v[2];
-  return d;
+  using C = typename RS<S>::Stored;
+  S bound = pairRoundingBound<S>(offsets, reaches, separation);
+  if constexpr (!std::is_same_v<C, S>) bound += 32 * S(eps<C>()) * (delta_norm1 + 16 * reaches);
+  return C(bound);
+}
+
+/// A volume's six diagonal slabs in diagonalLanes' order: lo[0], hi[0] hold slabs 3-6, lo[1], hi[1] slabs 7 and 8.
+template <typename S>
+void diagonalSlabs(const RS<S>& b, Lanes lo[2], Lanes hi[2])
+{
+  using Map = Eigen::Map<const Lanes, Eigen::Unaligned>;
+  lo[0] = Map(b.lo.data() + 3);
+  hi[0] = Map(b.hi.data() + 3);
+  lo[1] = Lanes(b.lo[7], b.lo[8], 0.0f, 0.0f);
+  hi[1] = Lanes(b.hi[7], b.hi[8], 0.0f, 0.0f);
 }
 
 /// The part of the pair kernel that depends on b2 and the query only: b2's frame and box centre moved by (R, T)
@@ -597,11 +615,17 @@ struct MovedFrame
     centre.noalias() = axis * box.c + origin;
     offsets = o2.template lpNorm<1>() + T.template lpNorm<1>() + world_offsets;
     reach = box.reach();
-    const S scale = S(M_SQRT1_2);
-    const auto lo = b2.lo.template tail<6>().template cast<S>().array();
-    const auto hi = b2.hi.template tail<6>().template cast<S>().array();
-    diagonal_mid = (lo + hi) * scale - scaledDiagonals(box.c);
-    diagonal_half = (hi - lo) * scale;
+    for (int k = 0; k < 3; ++k) axis_rows[k] = Lanes(float(axis(k, 0)), float(axis(k, 1)), float(axis(k, 2)), 0.0f);
+    half_extents = Lanes(float(box.h[0]), float(box.h[1]), float(box.h[2]), 0.0f);
+    Lanes lo[2], hi[2], centre_diagonal[2];
+    diagonalSlabs(b2, lo, hi);
+    diagonalLanes(Lanes(float(box.c[0]), float(box.c[1]), float(box.c[2]), 0.0f), centre_diagonal[0], centre_diagonal[1]);
+    const float scale = float(M_SQRT1_2);
+    for (int h = 0; h < 2; ++h)
+    {
+      diagonal_mid[h] = (lo[h] + hi[h]) * scale - centre_diagonal[h];
+      diagonal_half[h] = (hi[h] - lo[h]) * scale;
+    }
   }
   fcl::Matrix3<S> axis;    ///< R A2
   fcl::Vector3<S> origin;  ///< R o2 + T
@@ -609,8 +633,11 @@ struct MovedFrame
   fcl::Vector3<S> centre;  ///< the box's centre moved: R (o2 + A2 c2) + T
   S offsets;               ///< |R o2|_1 + |T|_1 (+ world_offsets), the translations' part of pairRoundingBound's offsets
   S reach;                 ///< box.reach()
-  /// b2's six diagonal slabs from the box centre, times sqrt(2): the middle and the half width of each interval.
-  Eigen::Array<S, 6, 1> diagonal_mid, diagonal_half;
+  /// For boxedOverlap, in float lanes: the rows of axis, box.h, and b2's six diagonal slabs from the box centre,
+  /// times sqrt(2) (the middle and the half width of each interval, in diagonalLanes' order).
+  Lanes axis_rows[3];
+  Lanes half_extents;
+  Lanes diagonal_mid[2], diagonal_half[2];
 };
 
 /// The pair kernel: b2 expressed in b1's frame (y1 = M y2 + t), both principal boxes, b2's box centre in b1's
@@ -698,44 +725,58 @@ namespace detail {
 template <typename S>
 bool boxedOverlap(const MovedFrame<S>& moved2, const RS<S>& b1)
 {
-  using V = fcl::Vector3<S>;
-  const PairFrame<S> f(moved2, b1);
-  const fcl::Matrix3<S>& M = f.M;
-  const V& h1 = f.box1.h;
-  const V& h2 = f.box2.h;
-  // b2's box reaches sum_c |M_ic| h2_c along b1's axis i: the L1 norm of row i of N2 = M diag(h2); b1's box
-  // reaches the L1 norm of column i of N1 = diag(h1) M along b2's axis i.
-  const fcl::Matrix3<S> N2 = M * h2.asDiagonal();
-  const V d = f.centre2 - f.box1.c;  // from b1's box centre to b2's, b1's frame
-  if ((d.cwiseAbs() - N2.cwiseAbs().rowwise().sum() - h1).maxCoeff() > f.tol) return false;
-  const fcl::Matrix3<S> N1 = h1.asDiagonal() * M;
-  const V e = -(M.transpose() * d);  // from b2's box centre to b1's, b2's frame
-  if ((e.cwiseAbs() - N1.cwiseAbs().colwise().sum().transpose() - h2).maxCoeff() > f.tol) return false;
-  // Diagonal p over axes (i, j) is slab 3 + p (u_i + u_j) and 6 + p (u_i - u_j). sqrt(2) times a box's reach
-  // along it is the L1 norm of rows i +- j of N2 (b1's diagonal) or of columns i +- j of N1 (b2's). b2's slabs
-  // are measured from its box centre (MovedFrame), b1's from its frame origin, as centre2.
-  const S scale = S(M_SQRT1_2);
-  const Eigen::Array<S, 6, 1> lo = b1.lo.template tail<6>().template cast<S>().array();
-  const Eigen::Array<S, 6, 1> hi = b1.hi.template tail<6>().template cast<S>().array();
-  S worst = -std::numeric_limits<S>::max();
-  // A lambda inlined by force: gcc 12 calls it three times otherwise (about 40 more instructions per test).
-  const auto axisPair = [&](int p, int i, int j) __attribute__((always_inline)) {
-    using std::abs;
-    const S plus2 = abs(N2(i, 0) + N2(j, 0)) + abs(N2(i, 1) + N2(j, 1)) + abs(N2(i, 2) + N2(j, 2));
-    const S minus2 = abs(N2(i, 0) - N2(j, 0)) + abs(N2(i, 1) - N2(j, 1)) + abs(N2(i, 2) - N2(j, 2));
-    const S plus1 = abs(N1(0, i) + N1(0, j)) + abs(N1(1, i) + N1(1, j)) + abs(N1(2, i) + N1(2, j));
-    const S minus1 = abs(N1(0, i) - N1(0, j)) + abs(N1(1, i) - N1(1, j)) + abs(N1(2, i) - N1(2, j));
-    const S ci = f.centre2[i], cj = f.centre2[j];
-    const S plus_gap1 = abs(ci + cj - (lo[p] + hi[p]) * scale) - (hi[p] - lo[p]) * scale - plus2;
-    const S minus_gap1 = abs(ci - cj - (lo[p + 3] + hi[p + 3]) * scale) - (hi[p + 3] - lo[p + 3]) * scale - minus2;
-    const S plus_gap2 = abs(e[i] + e[j] - moved2.diagonal_mid[p]) - moved2.diagonal_half[p] - plus1;
-    const S minus_gap2 = abs(e[i] - e[j] - moved2.diagonal_mid[p + 3]) - moved2.diagonal_half[p + 3] - minus1;
-    worst = std::max(worst, std::max(std::max(plus_gap1, minus_gap1), std::max(plus_gap2, minus_gap2)));
-  };
-  axisPair(0, 0, 1);
-  axisPair(1, 0, 2);
-  axisPair(2, 1, 2);
-  return !(worst > S(M_SQRT2) * f.tol);
+  // PairFrame's arithmetic in float lanes, reading b1 as stored (no conversions). Lane i of a 3-vector is
+  // coordinate i; unused lanes are 0 or never compared.
+  static_assert(std::is_same_v<typename RS<S>::Stored, float>, "volumes are stored in float");
+  using Map = Eigen::Map<const Lanes, Eigen::Unaligned>;
+  const float* A1 = b1.axis.data();  // columns u0, u1, u2 (a fourth float follows: box_excess)
+  // Rows of M = A1^T (R A2) (lane c: b2's axis c), then its columns (lane i: b1's axis i).
+  Lanes m[3], w[3];
+  for (int i = 0; i < 3; ++i)
+    m[i] = A1[3 * i] * moved2.axis_rows[0] + A1[3 * i + 1] * moved2.axis_rows[1] + A1[3 * i + 2] * moved2.axis_rows[2];
+  transpose3(m[0], m[1], m[2], w);
+  Lanes a_rows[3];
+  transpose3(Map(A1), Map(A1 + 3), Map(A1 + 6), a_rows);
+  const fcl::Vector3<S> delta = moved2.centre - b1.origin;  // in S: both may be far from the model origin
+  const Lanes centre2 = float(delta[0]) * a_rows[0] + float(delta[1]) * a_rows[1] + float(delta[2]) * a_rows[2];
+  const Lanes lo1 = Map(b1.lo.data()), hi1 = Map(b1.hi.data());  // lane 3 holds the first diagonal: unused
+  const Lanes c1 = (lo1 + hi1) * 0.5f, h1 = (hi1 - lo1) * 0.5f;
+  const Lanes& h2 = moved2.half_extents;
+  const Lanes d = centre2 - c1;  // from b1's box centre to b2's, b1's frame
+  const float tol = storedPairRoundingBound<S>(
+      moved2.offsets + b1.origin.template lpNorm<1>(), S((c1.abs() + h1).template head<3>().maxCoeff()) + moved2.reach,
+      S(d.abs().template head<3>().sum()), delta.template lpNorm<1>());
+  // b2's box reaches sum_c |M_ic| h2_c along b1's axis i; b1's box reaches sum_i |M_ic| h1_i along b2's axis c.
+  const Lanes gap1 = d.abs() - (w[0].abs() * h2[0] + w[1].abs() * h2[1] + w[2].abs() * h2[2]) - h1;
+  if (gap1.template head<3>().maxCoeff() > tol) return false;
+  const Lanes e = -(d[0] * m[0] + d[1] * m[1] + d[2] * m[2]);  // from b2's box centre to b1's, b2's frame
+  const Lanes gap2 = e.abs() - (m[0].abs() * h1[0] + m[1].abs() * h1[1] + m[2].abs() * h1[2]) - h2;
+  if (gap2.template head<3>().maxCoeff() > tol) return false;
+  // The diagonals, sqrt(2) times: a box's reach along b1's diagonal (i, j) is sum_c |M_ic +- M_jc| h2_c, along
+  // b2's sum_i |M_ic +- M_id| h1_i. b2's slabs are measured from its box centre (MovedFrame), b1's from its frame
+  // origin, as centre2. Unused lanes give 0 - 0 - 0, never above the tolerance.
+  const float scale = float(M_SQRT1_2);
+  Lanes diag[2], radius2[2] = {Lanes::Zero(), Lanes::Zero()}, radius1[2] = {Lanes::Zero(), Lanes::Zero()};
+  for (int c = 0; c < 3; ++c)
+  {
+    diagonalLanes(w[c], diag[0], diag[1]);
+    for (int h = 0; h < 2; ++h) radius2[h] += diag[h].abs() * h2[c];
+    diagonalLanes(m[c], diag[0], diag[1]);
+    for (int h = 0; h < 2; ++h) radius1[h] += diag[h].abs() * h1[c];
+  }
+  Lanes lo_diagonal[2], hi_diagonal[2], centre_diagonal[2], e_diagonal[2];
+  diagonalSlabs(b1, lo_diagonal, hi_diagonal);
+  diagonalLanes(centre2, centre_diagonal[0], centre_diagonal[1]);
+  diagonalLanes(e, e_diagonal[0], e_diagonal[1]);
+  Lanes worst = Lanes::Constant(-std::numeric_limits<float>::max());
+  for (int h = 0; h < 2; ++h)
+  {
+    const Lanes gap_of_b1 = (centre_diagonal[h] - (lo_diagonal[h] + hi_diagonal[h]) * scale).abs() -
+                            (hi_diagonal[h] - lo_diagonal[h]) * scale - radius2[h];
+    const Lanes gap_of_b2 = (e_diagonal[h] - moved2.diagonal_mid[h]).abs() - moved2.diagonal_half[h] - radius1[h];
+    worst = worst.max(gap_of_b1).max(gap_of_b2);
+  }
+  return !(worst.maxCoeff() > float(M_SQRT2) * tol);
 }
 
 /// Whether a triangle, its vertices y in b's frame coordinates, may meet b: its interval along each of b's nine
