@@ -59,6 +59,11 @@ public:
   /// A stored slab value <= v (for lo) and one >= v (for hi), each within two float ulps of v.
   static Stored slabBelow(S v);
   static Stored slabAbove(S v);
+  /// slabBelow and slabAbove of each of n values at once (a fit rounds 18 per node: vectorised, not 18 calls).
+  template <int n>
+  static Eigen::Array<Stored, n, 1> slabsBelow(const Eigen::Array<S, n, 1>& v);
+  template <int n>
+  static Eigen::Array<Stored, n, 1> slabsAbove(const Eigen::Array<S, n, 1>& v);
 
   /// The stored frame in S.
   fcl::Matrix3<S> axes() const { return axis.template cast<S>(); }
