@@ -117,7 +117,7 @@ Eigen::Array<typename RS<S>::Stored, n, 1> RS<S>::slabsBelow(const Eigen::Array<
     const Eigen::Array<S, n, 1> stepped = (v - v.abs() * S(std::numeric_limits<Stored>::epsilon()) -
                                            S(std::numeric_limits<Stored>::denorm_min()))
                                               .min(S(std::numeric_limits<Stored>::max()));
-    Eigen::Array<Stored, n, 1> rounded;
+    Eigen::Array<Stored, n, 1> rounded;  // not stepped.cast<Stored>(): gcc 12 calls Eigen's constructor for it
     for (int k = 0; k < n; ++k) rounded[k] = static_cast<Stored>(stepped[k]);
     return rounded;
   }

@@ -60,10 +60,11 @@ public:
   static Stored slabBelow(S v);
   static Stored slabAbove(S v);
   /// slabBelow and slabAbove of each of n values at once (a fit rounds 18 per node: vectorised, not 18 calls).
+  /// Inlined by force: gcc 12 calls them otherwise, about 90 more instructions per fitted node.
   template <int n>
-  static Eigen::Array<Stored, n, 1> slabsBelow(const Eigen::Array<S, n, 1>& v);
+  __attribute__((always_inline)) inline static Eigen::Array<Stored, n, 1> slabsBelow(const Eigen::Array<S, n, 1>& v);
   template <int n>
-  static Eigen::Array<Stored, n, 1> slabsAbove(const Eigen::Array<S, n, 1>& v);
+  __attribute__((always_inline)) inline static Eigen::Array<Stored, n, 1> slabsAbove(const Eigen::Array<S, n, 1>& v);
 
   /// The stored frame in S.
   fcl::Matrix3<S> axes() const { return axis.template cast<S>(); }
