@@ -89,8 +89,10 @@ int octantOf(const fcl::Vector3<S>& dir)
 
 }  // namespace detail
 
+// The stored identity directly, not the identity in S rounded to storage: FCL builds a default volume for every
+// node it allocates, as many as the fit builds.
 template <typename S>
-RS<S>::RS() : RS(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero())
+RS<S>::RS() : axis(Axes::Identity()), origin(fcl::Vector3<S>::Zero())
 {
 }
 
@@ -98,8 +100,6 @@ template <typename S>
 RS<S>::RS(const fcl::Matrix3<S>& axis_, const fcl::Vector3<S>& origin_)
   : axis(axis_.template cast<Stored>()), origin(origin_)
 {
-  lo.setConstant(std::numeric_limits<Stored>::max());
-  hi.setConstant(-std::numeric_limits<Stored>::max());
 }
 
 template <typename S>

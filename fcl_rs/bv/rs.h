@@ -3,6 +3,7 @@
 #define FCL_RS_RS_H
 
 #include <array>
+#include <limits>
 
 #include <fcl/common/types.h>
 
@@ -46,8 +47,8 @@ public:
   fcl::Vector3<S> origin;
   /// Slab intervals along the nine unit directions, in frame coordinates. Write them through slabBelow and
   /// slabAbove: a value rounded to nearest can cut a point off.
-  Slabs lo;
-  Slabs hi;
+  Slabs lo = Slabs::Constant(std::numeric_limits<Stored>::max());  // empty: lo > hi
+  Slabs hi = Slabs::Constant(-std::numeric_limits<Stored>::max());
 
   /// Empty volume in the identity frame at the model origin.
   RS();
