@@ -90,8 +90,10 @@ int octantOf(const fcl::Vector3<S>& dir)
 
 }  // namespace detail
 
+// The stored identity directly, not the identity in S rounded to storage: FCL builds a default volume for every
+// node it allocates, as many as the fit builds.
 template <typename S>
-RS<S>::RS() : RS(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero())
+RS<S>::RS() : axis(Axes::Identity()), origin(fcl::Vector3<S>::Zero())
 {
 }
 
@@ -99,12 +101,11 @@ template <typename S>
 RS<S>::RS(const fcl::Matrix3<S>& axis_, const fcl::Vector3<S>& origin_)
   : axis(axis_.template cast<Stored>()), origin(origin_)
 {
-  lo.setConstant(std::numeric_limits<Stored>::max());
-  hi.setConstant(-std::numeric_limits<Stored>::max());
 }
 
 template <typename S>
-typename RS<S>::Stored RS<S>::slabBelow(S v)
+template <int n>
+Eigen::Array<typename RS<S>::Stored, n, 1> RS<S>::slabsBelow(const Eigen::Array<S, n, 1>& v)
 {
   if constexpr (std::is_same_v<S, Stored>)
     return v;
@@ -114,16 +115,32 @@ typename RS<S>::Stored RS<S>::slabBelow(S v)
     // Stepping down by eps(float) = 2^-23 of it and the smallest subnormal first leaves the rounded value <= v,
     // at most two ulps below the largest such float, without branches (the fit rounds 18 values per node).
     // Past float's range, rounding to nearest gives infinity, which a lower end may only be on the low side.
-    const S stepped = v - std::abs(v) * S(std::numeric_limits<Stored>::epsilon()) -
-                      S(std::numeric_limits<Stored>::denorm_min());
-    return static_cast<Stored>(std::min(stepped, S(std::numeric_limits<Stored>::max())));
+    const Eigen::Array<S, n, 1> stepped = (v - v.abs() * S(std::numeric_limits<Stored>::epsilon()) -
+                                           S(std::numeric_limits<Stored>::denorm_min()))
+                                              .min(S(std::numeric_limits<Stored>::max()));
+    Eigen::Array<Stored, n, 1> rounded;  // not stepped.cast<Stored>(): gcc 12 calls Eigen's constructor for it
+    for (int k = 0; k < n; ++k) rounded[k] = static_cast<Stored>(stepped[k]);
+    return rounded;
   }
+}
+
+template <typename S>
+template <int n>
+Eigen::Array<typename RS<S>::Stored, n, 1> RS<S>::slabsAbove(const Eigen::Array<S, n, 1>& v)
+{
+  return -slabsBelow<n>(-v);
+}
+
+template <typename S>
+typename RS<S>::Stored RS<S>::slabBelow(S v)
+{
+  return slabsBelow<1>(Eigen::Array<S, 1, 1>(v))[0];
 }
 
 template <typename S>
 typename RS<S>::Stored RS<S>::slabAbove(S v)
 {
-  return -slabBelow(-v);
+  return slabsAbove<1>(Eigen::Array<S, 1, 1>(v))[0];
 }
 
 template <typename S>
@@ -174,12 +191,8 @@ void RS<S>::expandPoints(int n, PointAt point_at)
   if (n > 0)
   {
     const S err = 4 * detail::eps<S>() * largest_norm1;  // as expandFrame's, for the largest point
-    const Array lower = low * unit - err, upper = high * unit + err;
-    for (int k = 0; k < kNumSlabs; ++k)
-    {
-      lo[k] = std::min(lo[k], slabBelow(lower[k]));
-      hi[k] = std::max(hi[k], slabAbove(upper[k]));
-    }
+    lo = lo.cwiseMin(slabsBelow<kNumSlabs>(low * unit - err).matrix());
+    hi = hi.cwiseMax(slabsAbove<kNumSlabs>(high * unit + err).matrix());
   }
   updateBoxExcess();
 }

@@ -3,6 +3,7 @@
 #define FCL_RS_RS_H
 
 #include <array>
+#include <limits>
 
 #include <fcl/common/types.h>
 
@@ -46,8 +47,8 @@ public:
   fcl::Vector3<S> origin;
   /// Slab intervals along the nine unit directions, in frame coordinates. Write them through slabBelow and
   /// slabAbove: a value rounded to nearest can cut a point off.
-  Slabs lo;
-  Slabs hi;
+  Slabs lo = Slabs::Constant(std::numeric_limits<Stored>::max());  // empty: lo > hi
+  Slabs hi = Slabs::Constant(-std::numeric_limits<Stored>::max());
 
   /// Empty volume in the identity frame at the model origin.
   RS();
@@ -59,6 +60,12 @@ public:
   /// A stored slab value <= v (for lo) and one >= v (for hi), each within two float ulps of v.
   static Stored slabBelow(S v);
   static Stored slabAbove(S v);
+  /// slabBelow and slabAbove of each of n values at once (a fit rounds 18 per node: vectorised, not 18 calls).
+  /// Inlined by force: gcc 12 calls them otherwise, about 90 more instructions per fitted node.
+  template <int n>
+  __attribute__((always_inline)) inline static Eigen::Array<Stored, n, 1> slabsBelow(const Eigen::Array<S, n, 1>& v);
+  template <int n>
+  __attribute__((always_inline)) inline static Eigen::Array<Stored, n, 1> slabsAbove(const Eigen::Array<S, n, 1>& v);
 
   /// The stored frame in S.
   fcl::Matrix3<S> axes() const { return axis.template cast<S>(); }

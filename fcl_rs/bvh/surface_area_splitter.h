@@ -95,7 +95,9 @@ template <typename S>
 void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitive_indices, int num_primitives)
 {
   const int n = num_primitives;
-  normal_ = bv.axes().col(0);
+  // bv's frame in S, converted from storage once per node: bv.toFrame would convert it at every vertex.
+  const fcl::Matrix3<S> axes = bv.axes();
+  normal_ = axes.col(0);
   value_ = normal_.dot(bv.center());
   if (n < 2) return;  // a leaf: FCL's builder does not split it
   lo_.resize(std::size_t(n));
@@ -111,7 +113,7 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
     fcl::Vector3<S> sum = fcl::Vector3<S>::Zero();
     for (int k = 0; k < points; ++k)
     {
-      const fcl::Vector3<S> y = bv.toFrame(vertices_[points == 3 ? triangles_[p][k] : p]);
+      const fcl::Vector3<S> y = axes.transpose() * (vertices_[points == 3 ? triangles_[p][k] : p] - bv.origin);
       lo_[std::size_t(i)] = k == 0 ? y : lo_[std::size_t(i)].cwiseMin(y);
       hi_[std::size_t(i)] = k == 0 ? y : hi_[std::size_t(i)].cwiseMax(y);
       sum += y;
@@ -173,7 +175,7 @@ void SurfaceAreaSplitter<S>::computeRule(const RS<S>& bv, unsigned int* primitiv
   // halves; the plane through the centre set above will do.
   if (best_axis < 0) return;
   // Frame coordinate y_axis > threshold  <=>  u_axis . q > u_axis . origin + threshold.
-  normal_ = bv.axes().col(best_axis);
+  normal_ = axes.col(best_axis);
   value_ = normal_.dot(bv.origin) + best_threshold;
 }
 
