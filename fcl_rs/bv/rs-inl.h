@@ -215,24 +215,36 @@ void RS<S>::updateBoxExcess()
   // box corner, its vertices on the principal planes are at squared distances a²+b², a²+c², b²+c², the
   // chamfers' triple point at ex²+ey²+ez²; where the triple point passes a principal plane (e > 0), two
   // vertices on that plane replace it. Rounding only moves the bound by ulps, which costs pruning at most.
-  S nearest_squared = 0;
-  for (int octant = 0; octant < 8; ++octant)
-  {
-    const CornerPlanes p = cornerPlanes(octant);
-    const S a = p.X + p.Y - p.Cxy, b = p.X + p.Z - p.Cxz, c = p.Y + p.Z - p.Cyz;
-    const S ex = (c - a - b) / 2, ey = (b - a - c) / 2, ez = (a - b - c) / 2;
-    const S ab = a * a + b * b, ac = a * a + c * c, bc = b * b + c * c;
-    S nearest;
-    if (ex <= 0 && ey <= 0 && ez <= 0)
-      nearest = std::min({ex * ex + ey * ey + ez * ez, ab, ac, bc});
-    else if (ex >= ey && ex >= ez)
-      nearest = std::min({a * a + (c - a) * (c - a), b * b + (c - b) * (c - b), ac, bc});
-    else if (ey >= ez)
-      nearest = std::min({a * a + (b - a) * (b - a), c * c + (b - c) * (b - c), ab, bc});
-    else
-      nearest = std::min({b * b + (a - b) * (a - b), c * c + (a - c) * (a - c), ab, ac});
-    nearest_squared = std::max(nearest_squared, nearest);
-  }
+  // All eight corners at once (one lane per octant, bit i set = negative along u_i, as cornerPlanes), every case
+  // computed and the right one selected: a build fits one volume per node and branches cost more than the lanes.
+  using Octants = Eigen::Array<double, 8, 1>;
+  const auto end = [this](int k, int pattern) {  // lane o: -lo[k] where bit o of pattern is set, else hi[k]
+    Octants v;
+    for (int o = 0; o < 8; ++o) v[o] = (pattern >> o) & 1 ? -double(lo[k]) : double(hi[k]);
+    return v;
+  };
+  // cornerPlanes' unnormalised chamfer over axes i, j: the minus slab where the two signs differ.
+  const auto chamfer = [this](int i, int j) {
+    Octants v;
+    for (int o = 0; o < 8; ++o)
+    {
+      const bool ni = (o >> i) & 1, nj = (o >> j) & 1;
+      const int k = diagonalIndex(i, j, ni == nj ? +1 : -1);
+      v[o] = M_SQRT2 * (ni ? -double(lo[k]) : double(hi[k]));
+    }
+    return v;
+  };
+  const Octants X = end(0, 0b10101010), Y = end(1, 0b11001100), Z = end(2, 0b11110000);
+  const Octants a = X + Y - chamfer(0, 1), b = X + Z - chamfer(0, 2), c = Y + Z - chamfer(1, 2);
+  const Octants ex = (c - a - b) / 2, ey = (b - a - c) / 2, ez = (a - b - c) / 2;
+  const Octants ab = a * a + b * b, ac = a * a + c * c, bc = b * b + c * c;
+  const Octants inside = (ex * ex + ey * ey + ez * ez).min(ab).min(ac).min(bc);
+  const Octants past_x = (a * a + (c - a) * (c - a)).min(b * b + (c - b) * (c - b)).min(ac).min(bc);
+  const Octants past_y = (a * a + (b - a) * (b - a)).min(c * c + (b - c) * (b - c)).min(ab).min(bc);
+  const Octants past_z = (b * b + (a - b) * (a - b)).min(c * c + (a - c) * (a - c)).min(ab).min(ac);
+  const Octants nearest = (ex <= 0 && ey <= 0 && ez <= 0)
+                              .select(inside, (ex >= ey && ex >= ez).select(past_x, (ey >= ez).select(past_y, past_z)));
+  const S nearest_squared = S(std::max(0.0, nearest.maxCoeff()));
   box_excess = Stored(std::sqrt(nearest_squared));
 }
 
