@@ -601,7 +601,7 @@ S pairRoundingBound(S offsets, S reaches, S separation = 0)
 /// pairRoundingBound of a test that computes in the storage precision C = RS<S>::Stored what PairFrame computes in
 /// S (boxedOverlap): only delta, the vector from b1's frame origin to b2's moved box centre, is formed in S and
 /// rounded to C. The derivation above holds at C's precision with delta's L1 size for the translations' offsets;
-/// the error of delta itself is pairRoundingBound's in S. Rounded to C at the end: pruning's scale, not a term.
+/// the error of delta itself is pairRoundingBound's in S. The bound's own rounding to C is far inside its margin.
 template <typename S>
 typename RS<S>::Stored storedPairRoundingBound(S offsets, S reaches, S separation, S delta_norm1)
 {
@@ -754,7 +754,9 @@ bool boxedOverlap(const MovedFrame<S>& moved2, const RS<S>& b1)
   // coordinate i; unused lanes are 0 or never compared.
   static_assert(std::is_same_v<typename RS<S>::Stored, float>, "volumes are stored in float");
   using Map = Eigen::Map<const Lanes, Eigen::Unaligned>;
-  const float* A1 = b1.axis.data();  // columns u0, u1, u2 (a fourth float follows: box_excess)
+  // Columns u0, u1, u2; the last column's load reads one float past the frame (the next member), into a lane
+  // that only the unused fourth row of a_rows receives.
+  const float* A1 = b1.axis.data();
   // Rows of M = A1^T (R A2) (lane c: b2's axis c), then its columns (lane i: b1's axis i).
   Lanes m[3], w[3];
   for (int i = 0; i < 3; ++i)
