@@ -640,6 +640,26 @@ struct MovedFrame
     centre.noalias() = axis * box.c + origin;
     offsets = o2.template lpNorm<1>() + T.template lpNorm<1>() + world_offsets;
     reach = box.reach();
+  }
+  fcl::Matrix3<S> axis;    ///< R A2
+  fcl::Vector3<S> origin;  ///< R o2 + T
+  Box<S> box;              ///< b2's principal box, in b2's frame
+  fcl::Vector3<S> centre;  ///< the box's centre moved: R (o2 + A2 c2) + T
+  S offsets;               ///< |R o2|_1 + |T|_1 (+ world_offsets), the translations' part of pairRoundingBound's offsets
+  S reach;                 ///< box.reach()
+};
+
+/// MovedFrame plus what boxedOverlap reads of b2, in float lanes: collision traversals build it once per visited
+/// node and query; distance traversals, which never run the boxed test, keep the plain MovedFrame.
+template <typename S>
+struct BoxedFrame : MovedFrame<S>
+{
+  BoxedFrame() = default;
+  BoxedFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2, S world_offsets = 0)
+    : MovedFrame<S>(R, T, b2, world_offsets)
+  {
+    const fcl::Matrix3<S>& axis = this->axis;
+    const Box<S>& box = this->box;
     for (int k = 0; k < 3; ++k) axis_rows[k] = Lanes(float(axis(k, 0)), float(axis(k, 1)), float(axis(k, 2)), 0.0f);
     half_extents = Lanes(float(box.h[0]), float(box.h[1]), float(box.h[2]), 0.0f);
     Lanes lo[2], hi[2], centre_diagonal[2];
@@ -652,14 +672,8 @@ struct MovedFrame
       diagonal_half[h] = (hi[h] - lo[h]) * scale;
     }
   }
-  fcl::Matrix3<S> axis;    ///< R A2
-  fcl::Vector3<S> origin;  ///< R o2 + T
-  Box<S> box;              ///< b2's principal box, in b2's frame
-  fcl::Vector3<S> centre;  ///< the box's centre moved: R (o2 + A2 c2) + T
-  S offsets;               ///< |R o2|_1 + |T|_1 (+ world_offsets), the translations' part of pairRoundingBound's offsets
-  S reach;                 ///< box.reach()
-  /// For boxedOverlap, in float lanes: the rows of axis, box.h, and b2's six diagonal slabs from the box centre,
-  /// times sqrt(2) (the middle and the half width of each interval, in diagonalLanes' order).
+  /// The rows of axis, box.h, and b2's six diagonal slabs from the box centre, times sqrt(2) (the middle and the
+  /// half width of each interval, in diagonalLanes' order).
   Lanes axis_rows[3];
   Lanes half_extents;
   Lanes diagonal_mid[2], diagonal_half[2];
@@ -748,7 +762,7 @@ namespace detail {
 /// twelve diagonals, which every overlapping pair reaches, have no branch. They are compared sqrt(2) times (a
 /// diagonal is (u_i +- u_j) / sqrt(2)).
 template <typename S>
-bool boxedOverlap(const MovedFrame<S>& moved2, const RS<S>& b1)
+bool boxedOverlap(const BoxedFrame<S>& moved2, const RS<S>& b1)
 {
   // PairFrame's arithmetic in float lanes, reading b1 as stored (no conversions). Lane i of a 3-vector is
   // coordinate i; unused lanes are 0 or never compared.
@@ -935,7 +949,7 @@ bool exactOverlap(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2)
 
 /// overlap() with b2's frame already moved: moved2 = MovedFrame(R, T, b2).
 template <typename S>
-bool overlap(const MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2, OverlapTest test)
+bool overlap(const BoxedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2, OverlapTest test)
 {
   if (b1.empty() || b2.empty()) return false;
   switch (test)
@@ -953,7 +967,7 @@ bool overlap(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1
              S world_offsets)
 {
   if (b1.empty() || b2.empty()) return false;
-  return detail::overlap(detail::MovedFrame<S>(R, T, b2, world_offsets), b1, b2, test);
+  return detail::overlap(detail::BoxedFrame<S>(R, T, b2, world_offsets), b1, b2, test);
 }
 
 template <typename S>

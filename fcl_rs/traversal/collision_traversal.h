@@ -35,8 +35,8 @@ public:
     return !overlap(R, T, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv, test, world_offsets);
   }
 
-  /// BVTesting with model2's node frame already moved: moved2 = detail::MovedFrame(R, T, model2's node b2).
-  bool BVTesting(int b1, int b2, const detail::MovedFrame<S>& moved2) const
+  /// BVTesting with model2's node frame already moved: moved2 = detail::BoxedFrame(R, T, model2's node b2).
+  bool BVTesting(int b1, int b2, const detail::BoxedFrame<S>& moved2) const
   {
     if (this->enable_statistics) this->num_bv_tests++;
     return !detail::overlap(moved2, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv, test);
@@ -116,7 +116,7 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
 {
   const fcl::BVHModel<RS<S>>& model1 = *node.model1;
   const fcl::BVHModel<RS<S>>& model2 = *node.model2;
-  detail::MovedFrames<S> moved(node.R, node.T, model2, node.world_offsets);
+  detail::MovedFrames<S, detail::BoxedFrame<S>> moved(node.R, node.T, model2, node.world_offsets);
   std::vector<std::pair<int, int>> stack;  // the second children of the pairs split so far
   stack.reserve(128);
   const bool nearer_first = !node.request.enable_cost && node.request.num_max_contacts <= kNearerFirstMaxContacts;
@@ -201,7 +201,7 @@ private:
   }
 
   RS<S> bv_;
-  detail::MovedFrame<S> moved_;
+  detail::BoxedFrame<S> moved_;
 };
 
 /// The pair kernel's rounding bound for a node against a plane n . x = d (|n| = 1) in the node's model

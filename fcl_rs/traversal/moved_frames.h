@@ -15,8 +15,9 @@ namespace detail {
 
 /// The frames of a model's nodes moved by (R, T) (MovedFrame), each computed when a traversal first asks for it:
 /// a node meets several nodes of the other tree, and moving its frame is about a third of a boxed overlap test.
-/// R and T must outlive the cache; world_offsets as MovedFrame's. One cache per query (PerQueryTable).
-template <typename S>
+/// R and T must outlive the cache; world_offsets as MovedFrame's. One cache per query (PerQueryTable). Frame is
+/// MovedFrame<S> or BoxedFrame<S> (collision traversals, for the boxed test).
+template <typename S, typename Frame = MovedFrame<S>>
 class MovedFrames
 {
 public:
@@ -25,9 +26,9 @@ public:
     : R_(R), T_(T), world_offsets_(world_offsets), model_(model), frames_(std::size_t(model.getNumBVs()))
   {
   }
-  const MovedFrame<S>& operator()(int b)
+  const Frame& operator()(int b)
   {
-    return frames_.get(std::size_t(b), [&] { return MovedFrame<S>(R_, T_, model_.getBV(b).bv, world_offsets_); });
+    return frames_.get(std::size_t(b), [&] { return Frame(R_, T_, model_.getBV(b).bv, world_offsets_); });
   }
 
 private:
@@ -35,7 +36,7 @@ private:
   const fcl::Vector3<S>& T_;
   S world_offsets_;
   const fcl::BVHModel<RS<S>>& model_;
-  PerQueryTable<MovedFrame<S>> frames_;
+  PerQueryTable<Frame> frames_;
 };
 
 }  // namespace detail
