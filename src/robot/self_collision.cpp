@@ -369,6 +369,18 @@ struct SelfCollision<S>::Impl
     return overlap(R, T, links[a].bound, links[b].bound, kDefaultOverlapTest, worldOffsets(ta, tb));
   }
 
+  /// A lower bound on the distance between the links' RS volumes (Link::bound) at their poses.
+  S boundsDistance(const Placement& p, int a, int b) const
+  {
+    const Tf<S>& ta = p.poses[a];
+    const Tf<S>& tb = p.poses[b];
+    const fcl::Matrix3<S> R = ta.linear().transpose() * tb.linear();
+    const fcl::Vector3<S> T = ta.linear().transpose() * (tb.translation() - ta.translation());
+    // The relative pose carries the world frame's rounding: a few ulps of the poses' offsets.
+    return distance(R, T, links[a].bound, links[b].bound) -
+           8 * std::numeric_limits<S>::epsilon() * worldOffsets(ta, tb);
+  }
+
   bool collides(const Placement& placement, int a, int b, QueryStats* stats) const
   {
     if (spheresApart(placement, a, b)) return false;
@@ -437,7 +449,9 @@ struct SelfCollision<S>::Impl
     for (const auto& x : ea)
       for (const auto& y : eb)
       {
+        // Started at the best distance so far, the traversal prunes every node pair that cannot beat it.
         fcl::DistanceResult<S> result;
+        result.min_distance = bound;
         bound = std::min(bound, fcl_rs::distance(x.first, x.second, y.first, y.second, request, result));
       }
     return bound;
@@ -451,7 +465,13 @@ struct SelfCollision<S>::Impl
   {
     std::vector<std::pair<S, int>> order(pairs.size());
     for (std::size_t i = 0; i < pairs.size(); ++i)
-      order[i] = {sphereGap(placement, pairs[i].first, pairs[i].second), int(i)};
+    {
+      const int a = pairs[i].first, b = pairs[i].second;
+      S gap = sphereGap(placement, a, b);
+      if (bv == BVType::kRS && gap < std::numeric_limits<S>::infinity())
+        gap = std::max(gap, boundsDistance(placement, a, b));  // tighter than the spheres
+      order[i] = {gap, int(i)};
+    }
     std::sort(order.begin(), order.end());
     S best = std::numeric_limits<S>::infinity();
     for (const auto& [gap, i] : order)
