@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include <fcl/math/bv/AABB.h>
 #include <fcl/math/bv/OBB.h>
 #include <fcl/math/bv/OBBRSS.h>
 #include <fcl/math/bv/RSS.h>
@@ -98,13 +99,15 @@ bool bodiesCollide(const Body<S>& a, const Tf<S>& ta, const Body<S>& b, const Tf
 }
 
 /// The smallest element distance between a and b when below `bound` (else `bound`), with the nearest points
-/// (a's first, root frame) when `points` is given. Colliding elements give 0.
+/// (a's first, root frame) when `points` is given. Colliding elements give 0. With rel_err > 0 the result may
+/// exceed the distance by that factor (fcl_rs::distance's contract): divide by 1 + rel_err for a lower bound.
 template <typename S>
 S bodiesDistance(const Body<S>& a, const Tf<S>& ta, const Body<S>& b, const Tf<S>& tb, S bound,
-                 fcl::Vector3<S>* points)
+                 fcl::Vector3<S>* points, S rel_err = 0)
 {
   fcl::DistanceRequest<S> request;
   request.enable_nearest_points = points != nullptr;
+  request.rel_err = rel_err;
   for (const LinkElement<S>& ea : a.elements)
     for (const LinkElement<S>& eb : b.elements)
     {
@@ -149,6 +152,10 @@ std::shared_ptr<fcl::CollisionGeometry<S>> buildTree(BVType bv, const TriangleMe
 
 }  // namespace
 
+/// The relative error motion checks allow their distances: a lower bound within this factor of the distance
+/// certifies nearly as much and prunes far more of the trees.
+constexpr double kMotionDistanceError = 0.25;
+
 template <typename S>
 struct Environment<S>::Impl
 {
@@ -159,6 +166,7 @@ struct Environment<S>::Impl
     Body<S> body;
     Tf<S> pose;
     WorldSphere<S> sphere;  ///< at pose
+    fcl::AABB<S> box;       ///< the geometry's box in its own frame (tighter than the ball for slabs such as tables)
   };
 
   /// A pair a motion check certifies: a self pair (other_link >= 0) or a link and an obstacle.
@@ -281,6 +289,7 @@ struct Environment<S>::Impl
     o.body.elements.push_back({o.geometry.get(), Tf<S>::Identity()});
     o.body.center = o.geometry->aabb_center;
     o.body.radius = o.geometry->aabb_radius * S(1 + 1e-6);
+    o.box = o.geometry->aabb_local;
     o.pose = pose;
     o.sphere = place(o.body, pose);
     obstacles.push_back(std::move(o));
@@ -414,10 +423,17 @@ struct Environment<S>::Impl
     return s;
   }
 
+  /// A lower bound on the pair's distance: the balls' gap, or for an obstacle the gap between the link's ball and
+  /// the obstacle's own box (the ball's centre moved into the obstacle's frame), whichever is larger.
   S gap(const Sample& s, const MotionPair& p) const
   {
-    const WorldSphere<S>& other = p.other_link >= 0 ? s.spheres[p.other_link] : obstacles[p.obstacle].sphere;
-    return std::max(S(0), sphereGap(s.spheres[p.link], other));
+    const WorldSphere<S>& ball = s.spheres[p.link];
+    if (p.other_link >= 0) return std::max(S(0), sphereGap(ball, s.spheres[p.other_link]));
+    const Obstacle& o = obstacles[p.obstacle];
+    const fcl::Vector3<S> c = o.pose.inverse(Eigen::Isometry) * ball.centre;
+    const fcl::Vector3<S> outside = (o.box.min_ - c).cwiseMax(c - o.box.max_).cwiseMax(S(0));
+    const S box_gap = outside.norm() - ball.reach * S(1 + 1e-5);
+    return std::max({S(0), sphereGap(ball, o.sphere), box_gap});
   }
 
   /// The pair's lower bound at s: the balls' gap until the exact distance is asked for.
@@ -441,8 +457,9 @@ struct Environment<S>::Impl
       return;
     }
     ++result.distance_queries;
-    s.bound[i] = bodiesDistance(links[p.link], s.poses[p.link], other, other_pose,
-                                std::numeric_limits<S>::infinity(), static_cast<fcl::Vector3<S>*>(nullptr));
+    s.bound[i] = bodiesDistance(links[p.link], s.poses[p.link], other, other_pose, std::numeric_limits<S>::infinity(),
+                                static_cast<fcl::Vector3<S>*>(nullptr), S(kMotionDistanceError)) /
+                 S(1 + kMotionDistanceError);
   }
 
   /// One segment, parameters in [0, 1] (see the class comment). Intervals are taken left first, so when a
