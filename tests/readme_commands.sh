@@ -39,13 +39,11 @@ if ! out="$(shows "bash scripts/compare.sh --with-coal=PREFIX" bash "$root/scrip
 else
   echo "compare.sh --with-coal accepted a prefix without Coal"; exit 1
 fi
-# The scripts build and run in SOURCE_DIR/build; from another build directory the library is built there instead.
+# compare.sh builds and runs SOURCE_DIR/build's fcl_rs_compare: run here only when that is BUILD_DIR. Its default
+# run (seven pairs, a minute or more) is too long for CI; one small mesh runs the same script and program.
 if [ "$(cd "$build" && pwd -P)" = "$(cd "$root" && pwd -P)/build" ]; then
-  out="$(shows "bash scripts/compare.sh" bash "$root/scripts/compare.sh" --queries 2)"
-  grep -q "median over" <<< "$out" || { echo "$out"; exit 1; }
-  grep -q "note: skipping" <<< "$out" || have_data models/fcl_env.obj > /dev/null || { echo "no note of the skipped pair on stdout"; exit 1; }
-  shows "scripts/compare.sh MESH_FILE..." bash "$root/scripts/compare.sh" --queries 2 "$assimp/STL/Spider_binary.stl" |
-    grep "Spider_binary.stl x Spider_binary.stl"
+  shows "scripts/compare.sh MESH_FILE..." bash "$root/scripts/compare.sh" --queries 2 "$assimp/OBJ/box.obj" |
+    grep "box.obj x box.obj"
 fi
 shows "build/benchmarks/fcl_rs_bench_distance --refits 1" "$build/benchmarks/fcl_rs_bench_distance" --refits 1 --queries 2 > /dev/null
 shows "build/benchmarks/fcl_rs_tradeoff --queries 50 --max-triangles 20000 --csv docs/plots/tradeoff.csv --plot" \
