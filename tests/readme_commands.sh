@@ -47,7 +47,7 @@ if [ "$(cd "$build" && pwd -P)" = "$(cd "$root" && pwd -P)/build" ]; then
 fi
 shows "build/benchmarks/fcl_rs_bench_distance --refits 1" "$build/benchmarks/fcl_rs_bench_distance" --refits 1 --queries 2 > /dev/null
 shows "build/benchmarks/fcl_rs_tradeoff --queries 50 --max-triangles 20000 --csv docs/plots/tradeoff.csv --plot" \
-  "$build/benchmarks/fcl_rs_tradeoff" --queries 2 --max-triangles 300 --csv tradeoff.csv --plot tradeoff.svg > /dev/null
+  "$build/benchmarks/fcl_rs_tradeoff" --quick --queries 2 --max-triangles 300 --csv tradeoff.csv --plot tradeoff.svg > /dev/null
 test -s tradeoff.csv && test -s tradeoff.svg
 shows "build/tools/fcl_rs_export --paper figures" "$build/tools/fcl_rs_export" --paper figures
 ls figures/*.png > /dev/null
