@@ -27,7 +27,7 @@ shows() {
 have_data() {
   [ -e "$data/$1" ] && return 0
   [[ "${CI:-}" =~ ^(|0|false)$ ]] || { echo "shared data $data/$1 is missing; CI=true requires it"; exit 1; }
-  echo "== README command skipped: shared data $data/$1 is missing"
+  echo "== README command left out: $data/$1 not found (shared data; CI=true fails here)"
   return 1
 }
 
