@@ -174,6 +174,7 @@ const Row& obbrssRow(const std::vector<Row>& rows, const std::string& robot)
 }  // namespace
 
 int main(int argc, char** argv)
+try
 {
   Options o;
   CLI::App app("Times full-robot self-collision checks with RS, OBBRSS, OBB, RSS and KDOP18 link trees on the same\n"
@@ -266,4 +267,10 @@ int main(int argc, char** argv)
   int differ = 0;
   for (const Row& r : rows) differ += r.disagreements;
   return differ == 0 ? 0 : 1;
+}
+// Whatever escapes the body (a bad file, bad input) ends the command with its message, not std::terminate.
+catch (const std::exception& e)
+{
+  std::fprintf(stderr, "fcl_rs_bench_selfcheck: %s\n", e.what());
+  return 1;
 }
