@@ -54,7 +54,14 @@ struct SelfCheckResult
 /// except adjacent links (a link and its nearest ancestor with geometry, so links without geometry such as
 /// panda_link8 do not hide an adjacency) and disabled pairs (SRDF). A check runs forward kinematics, skips
 /// pairs whose bounding spheres are apart, then tests the link geometries: a pair collides when any of its
-/// elements touch (FCL's triangle and GJK tests decide, so every BV type reports the same pairs).
+/// elements touch (FCL's triangle and GJK tests decide, so every BV type reports the same pairs). With RS, each
+/// link's elements also share one RS volume, tested after the spheres and before any element query, and a
+/// shape is tested against the mesh's root volume before its traversal is set up. A first-contact check
+/// (inCollision, query without colliding_pairs) tests the pair that collided last first.
+/// A minimum-distance query measures pairs in order of a lower bound on their distance (the spheres' gap, with
+/// RS the link volumes' distance) and stops when the bound reaches the best distance so far; each measurement
+/// starts at that best, so its traversal skips what cannot beat it. Exact distances between nearby links still
+/// cost far more than a collision check (fcl_rs_bench_selfcheck's us/min-dist column, docs/robots.md).
 ///
 /// How each BV type is queried (the fastest path FCL offers for it):
 /// * RS, OBBRSS, OBB, RSS: mesh-mesh in the links' own frames through collideWithStats (the relative

@@ -3,6 +3,7 @@
 #include "fcl_rs/robot/self_collision.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <limits>
@@ -62,6 +63,14 @@ namespace {
 
 template <typename S>
 using Tf = fcl::Transform3<S>;
+
+/// |ta.t|_1 + |tb.t|_1: what an RS test between volumes posed by ta and tb adds for the world frame's rounding
+/// (as the tree traversals do).
+template <typename S>
+S worldOffsets(const Tf<S>& ta, const Tf<S>& tb)
+{
+  return ta.translation().template lpNorm<1>() + tb.translation().template lpNorm<1>();
+}
 
 /// A box, cylinder or sphere element of a link.
 template <typename S>
@@ -140,13 +149,20 @@ private:
   bool meshShapeRS(int a, const Tf<S>& ta, const LinkShape<S>& shape, const Tf<S>& ts,
                    const fcl::CollisionRequest<S>& request) const
   {
+    // Most shapes that pass the link test are still apart from the mesh's root: one plain RS test decides them
+    // before the shape's volume is placed and the traversal set up (cost proportional to the nodes visited).
+    const Tf<S> shape_in_mesh = ta.inverse(Eigen::Isometry) * ts;
+    const fcl::Matrix3<S> R = shape_in_mesh.linear();
+    const fcl::Vector3<S> T = shape_in_mesh.translation();
+    if (!overlap(R, T, models_[a]->getBV(0).bv, shape.bv, kDefaultOverlapTest, worldOffsets(ta, ts)))
+      return false;
     using Solver = fcl::detail::GJKSolver_libccd<S>;
     Solver solver;
     solver.collision_tolerance = request.gjk_tolerance;
     MeshShapeCollisionTraversalNodeRS<Shape, Solver> node;
     fcl::CollisionResult<S> result;
     initialize(node, *models_[a], ta, static_cast<const Shape&>(*shape.geometry), ts, &solver, request, result,
-               std::make_unique<ShapeBound<S, Shape>>(shape.bv, ta.inverse(Eigen::Isometry) * ts));
+               std::make_unique<ShapeBound<S, Shape>>(shape.bv, shape_in_mesh));
     collideMeshShape(node);
     return result.isCollision();
   }
@@ -299,6 +315,7 @@ struct SelfCollision<S>::Impl
     std::vector<Shape> shapes;
     fcl::Vector3<S> center = fcl::Vector3<S>::Zero();  ///< bounding sphere in the link frame
     S radius = 0;
+    RS<S> bound;  ///< every element in one RS volume, in the link frame (RS checks test it after the spheres)
   };
 
   /// A link's bounding sphere in the root frame, its radius grown by a rounding pad.
@@ -343,9 +360,34 @@ struct SelfCollision<S>::Impl
     return (p.spheres[a].centre - p.spheres[b].centre).squaredNorm() > reach * reach;
   }
 
+  /// Whether the links' RS volumes (Link::bound) may overlap at their poses.
+  bool boundsOverlap(const Placement& p, int a, int b) const
+  {
+    const Tf<S>& ta = p.poses[a];
+    const Tf<S>& tb = p.poses[b];
+    const fcl::Matrix3<S> R = ta.linear().transpose() * tb.linear();
+    const fcl::Vector3<S> T = ta.linear().transpose() * (tb.translation() - ta.translation());
+    return overlap(R, T, links[a].bound, links[b].bound, kDefaultOverlapTest, worldOffsets(ta, tb));
+  }
+
+  /// A lower bound on the distance between the links' RS volumes (Link::bound) at their poses.
+  S boundsDistance(const Placement& p, int a, int b) const
+  {
+    const Tf<S>& ta = p.poses[a];
+    const Tf<S>& tb = p.poses[b];
+    const fcl::Matrix3<S> R = ta.linear().transpose() * tb.linear();
+    const fcl::Vector3<S> T = ta.linear().transpose() * (tb.translation() - ta.translation());
+    // The relative pose carries the world frame's rounding: a few ulps of the poses' offsets.
+    return distance(R, T, links[a].bound, links[b].bound) -
+           8 * std::numeric_limits<S>::epsilon() * worldOffsets(ta, tb);
+  }
+
   bool collides(const Placement& placement, int a, int b, QueryStats* stats) const
   {
     if (spheresApart(placement, a, b)) return false;
+    // The spheres of links that are near each other overlap in most configurations; their RS volumes are far
+    // tighter and one test is cheaper than setting up the element queries it usually rules out.
+    if (bv == BVType::kRS && !boundsOverlap(placement, a, b)) return false;
     const Link& la = links[a];
     const Link& lb = links[b];
     const Tf<S>& ta = placement.poses[a];
@@ -374,12 +416,23 @@ struct SelfCollision<S>::Impl
     placeSpheres(placement);
     trees->setPoses(placement.poses);
     std::vector<LinkPair> colliding;
+    if (stop_at_first)
+    {
+      // Consecutive checks of a planner are near each other, so the pair that collided last often collides
+      // again: it goes first.
+      const int hint = last_hit.load(std::memory_order_relaxed);
+      if (hint >= 0 && collides(placement, pairs[hint].first, pairs[hint].second, stats))
+        return {pairs[hint]};
+      for (int i = 0; i < int(pairs.size()); ++i)
+        if (i != hint && collides(placement, pairs[i].first, pairs[i].second, stats))
+        {
+          last_hit.store(i, std::memory_order_relaxed);
+          return {pairs[i]};
+        }
+      return colliding;
+    }
     for (const LinkPair& p : pairs)
-      if (collides(placement, p.first, p.second, stats))
-      {
-        colliding.push_back(p);
-        if (stop_at_first) break;
-      }
+      if (collides(placement, p.first, p.second, stats)) colliding.push_back(p);
     return colliding;
   }
 
@@ -397,20 +450,36 @@ struct SelfCollision<S>::Impl
     for (const auto& x : ea)
       for (const auto& y : eb)
       {
+        // Started at the best distance so far, the traversal prunes every node pair that cannot beat it.
         fcl::DistanceResult<S> result;
+        result.min_distance = bound;
         bound = std::min(bound, fcl_rs::distance(x.first, x.second, y.first, y.second, request, result));
       }
     return bound;
   }
 
-  /// Minimum distance over the pair list of a collision-free configuration. Pairs whose spheres are farther
-  /// apart than the best distance so far cannot lower it; the pair order is fixed, so the result is too.
+  /// Minimum distance over the pair list of a collision-free configuration. The pairs go in order of their
+  /// spheres' gap, a lower bound on their distance: the nearest pairs set a small minimum early, and once a gap
+  /// reaches the minimum no later pair can lower it. The order depends on the configuration only, so the result
+  /// does too.
   S minimumDistance(const Placement& placement) const
   {
+    std::vector<std::pair<S, int>> order(pairs.size());
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+    {
+      const int a = pairs[i].first, b = pairs[i].second;
+      S gap = sphereGap(placement, a, b);
+      if (bv == BVType::kRS && gap < std::numeric_limits<S>::infinity())
+        gap = std::max(gap, boundsDistance(placement, a, b));  // tighter than the spheres
+      order[i] = {gap, int(i)};
+    }
+    std::sort(order.begin(), order.end());
     S best = std::numeric_limits<S>::infinity();
-    for (const LinkPair& p : pairs)
-      if (sphereGap(placement, p.first, p.second) < best)
-        best = linkDistance(placement.poses, p.first, p.second, best);
+    for (const auto& [gap, i] : order)
+    {
+      if (gap >= best) break;
+      best = linkDistance(placement.poses, pairs[i].first, pairs[i].second, best);
+    }
     return best;
   }
 
@@ -421,6 +490,9 @@ struct SelfCollision<S>::Impl
   std::vector<LinkPair> pairs;
   std::unique_ptr<MeshTrees<S>> trees;
   Placement placement;  ///< scratch of the non-const checks
+  /// The index in pairs of the pair a first-contact check found last, -1 before any: a hint only, so threads
+  /// sharing the checker may overwrite each other's (any value in range gives the same answers).
+  mutable std::atomic<int> last_hit{-1};
   fcl::CollisionRequest<S> request{/*num_max_contacts=*/1, /*enable_contact=*/false};
 };
 
@@ -460,6 +532,13 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       radius = std::max(radius, (p.origin.translation() - c).norm() + primitiveRadius(p));
     link.center = c.cast<S>();
     link.radius = S(radius * (1 + 1e-6));
+    if (link.has_mesh) link.bound = fitPoints(meshes[i].vertices.data(), int(meshes[i].vertices.size()));
+    for (std::size_t k = 0; k < link.shapes.size(); ++k)
+    {
+      const RS<S> placed = placeShapeRS(link.shapes[k].bv, link.shapes[k].origin);
+      if (link.has_mesh || k > 0) link.bound += placed;
+      else link.bound = placed;
+    }
   }
   impl_->trees = makeTrees<S>(bv, meshes);
 
