@@ -250,7 +250,8 @@ TYPED_TEST(Batch, BadInputIsAnError)
   {
     test::expectError([&] { collideBatch<S>(*scene.torus, scene.poses_a, *scene.sphere, bad, {}, {threads}); },
                       {"fcl_rs::collideBatch: poses_b[2] is not a rigid transform: entry (0, 3) is inf"});
-    test::expectError([&] { distanceBatch<S>(*scene.torus, bad, *scene.sphere, scene.poses_b, {}, {threads}); },
+    test::expectError(
+        [&] { distanceBatch<S>(*scene.torus, bad, *scene.sphere, scene.poses_b, fcl::DistanceRequest<S>(), {threads}); },
                       {"fcl_rs::distanceBatch: poses_a[2] is not a rigid transform: entry (0, 3) is inf"});
   }
   bad = scene.poses_a;
