@@ -132,3 +132,40 @@ class Robot:
                     num_threads: int = 0) -> Dict[str, Union[npt.NDArray, List[npt.NDArray]]]:
         """Self-collision of every row of q (N, dof): 'colliding' (N,) bool; with pairs=True 'pairs', a list of
         (k, 2) link index arrays; with minimum_distance=True 'minimum_distance' (N,)."""
+
+class Environment:
+    """A URDF robot among named obstacles: self and world collision per configuration, minimum distance, and exact
+    motion checks of straight joint-space segments (no sampling resolution)."""
+    def __init__(self, urdf: str, srdf: str = "", bv: str = "RS") -> None:
+        """bv: RS, OBBRSS, OBB or RSS (OBB: no distances and no motion checks); obstacle meshes use it too."""
+    @property
+    def dof(self) -> int: ...
+    @property
+    def link_names(self) -> List[str]: ...
+    @property
+    def lower(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def upper(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def obstacle_names(self) -> List[str]: ...
+    def add_shape(self, name: str, shape: Geometry, pose: ArrayLike) -> None:
+        """Adds a Box, Sphere, Cylinder, Capsule, Cone or Ellipsoid at a 4x4 pose in the robot's root frame."""
+    def add_mesh(self, name: str, vertices: ArrayLike, triangles: ArrayLike, pose: ArrayLike) -> None:
+        """Adds a mesh ((V, 3) vertices, (F, 3) indices), built as a tree of the environment's BV type."""
+    def set_pose(self, name: str, pose: ArrayLike) -> None: ...
+    def remove(self, name: str) -> None: ...
+    def query(self, q: ArrayLike, pairs: bool = False, minimum_distance: bool = False) -> Dict[str, object]:
+        """'colliding'; with pairs=True 'pairs' [(link, other, other_is_link)]; with minimum_distance=True
+        'minimum_distance', 'nearest_pair' and 'nearest_points' (2, 3), link first, root frame."""
+    def check_batch(self, q: ArrayLike, minimum_distance: bool = False,
+                    num_threads: int = 0) -> Dict[str, npt.NDArray]:
+        """query for every row of q (N, dof): 'colliding' (N,) bool, 'minimum_distance' (N,) on request."""
+    def check_motion(self, start: ArrayLike, end: ArrayLike, earliest: bool = True,
+                     tolerance: float = 1e-3) -> Dict[str, Union[bool, float]]:
+        """'colliding', 'parameter' (a colliding configuration's parameter in [0, 1]) and 'free_until'."""
+    def check_path(self, waypoints: ArrayLike, earliest: bool = True,
+                   tolerance: float = 1e-3) -> Dict[str, Union[bool, float]]:
+        """check_motion through the rows of waypoints (K, dof); 'parameter' is segment index + parameter."""
+    def check_motion_batch(self, starts: ArrayLike, ends: ArrayLike, earliest: bool = False, tolerance: float = 1e-3,
+                           num_threads: int = 0) -> Dict[str, npt.NDArray]:
+        """check_motion for every row pair (N, dof): 'colliding', 'parameter', 'free_until' (N,) arrays."""

@@ -25,6 +25,7 @@
 #include "fcl_rs/distance.h"
 #include "fcl_rs/mesh/load_mesh.h"
 #include "fcl_rs/robot.h"
+#include "fcl_rs/robot/batch_environment.h"
 #include "fcl_rs/robot/batch_self_collision.h"
 #include "fcl_rs/version.h"
 
@@ -99,6 +100,23 @@ struct Robot
   RobotModel model;
   SelfCollision<double> checker;
 };
+
+/// A robot loaded from URDF (and SRDF) among named obstacles.
+struct PyEnvironment
+{
+  PyEnvironment(const std::string& urdf, const std::string& srdf, const std::string& bv)
+    : model(loadUrdf(urdf)),
+      env(model, robotBVType(bv), srdf.empty() ? std::vector<DisabledCollision>{} : loadDisabledCollisions(srdf, model))
+  {
+  }
+  RobotModel model;
+  Environment<double> env;
+};
+
+py::tuple pairTuple(const BodyPair& p)
+{
+  return py::make_tuple(p.link, p.other, p.other_is_link);
+}
 
 using ConfigurationArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
@@ -361,4 +379,166 @@ PYBIND11_MODULE(fcl_rs, m)
           "Self-collision of every row of q (N, dof), read in place. Returns a dict: 'colliding' (N,) bool; with\n"
           "pairs=True 'pairs', a list of (k, 2) link index arrays; with minimum_distance=True 'minimum_distance' (N,).\n"
           "num_threads: 0 every core, 1 the calling thread only. Results do not depend on it.");
+
+  py::class_<PyEnvironment>(m, "Environment",
+                            "A URDF robot among named obstacles: self and world collision per configuration, minimum\n"
+                            "distance, and exact motion checks of straight joint-space segments.")
+      .def(py::init<const std::string&, const std::string&, const std::string&>(), py::arg("urdf"),
+           py::arg("srdf") = "", py::arg("bv") = "RS",
+           "bv: RS, OBBRSS, OBB or RSS (OBB: no distances and no motion checks); obstacle meshes use it too.")
+      .def_property_readonly("dof", [](const PyEnvironment& e) { return e.env.kinematics().numVariables(); })
+      .def_property_readonly("link_names", [](const PyEnvironment& e) { return e.env.selfCollision().linkNames(); })
+      .def_property_readonly("lower", [](const PyEnvironment& e) { return fcl::VectorXd(e.env.kinematics().lower()); })
+      .def_property_readonly("upper", [](const PyEnvironment& e) { return fcl::VectorXd(e.env.kinematics().upper()); })
+      .def_property_readonly("obstacle_names", [](const PyEnvironment& e) { return e.env.obstacleNames(); })
+      .def(
+          "add_shape",
+          [](PyEnvironment& e, const std::string& name, const GeometryPtr& shape, const Poses& pose) {
+            e.env.addShape(name, shape, poseOf(pose, "pose"));
+          },
+          py::arg("name"), py::arg("shape"), py::arg("pose"),
+          "Adds a Box, Sphere, Cylinder, Capsule, Cone or Ellipsoid at a 4x4 pose in the robot's root frame.")
+      .def(
+          "add_mesh",
+          [](PyEnvironment& e, const std::string& name,
+             const py::array_t<double, py::array::c_style | py::array::forcecast>& vertices,
+             const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& triangles, const Poses& pose) {
+            if (vertices.ndim() != 2 || vertices.shape(1) != 3)
+              throw std::invalid_argument("fcl_rs.Environment.add_mesh: vertices must have shape (V, 3)");
+            if (triangles.ndim() != 2 || triangles.shape(1) != 3)
+              throw std::invalid_argument("fcl_rs.Environment.add_mesh: triangles must have shape (F, 3)");
+            TriangleMesh<double> mesh;
+            for (py::ssize_t i = 0; i < vertices.shape(0); ++i)
+              mesh.vertices.emplace_back(vertices.at(i, 0), vertices.at(i, 1), vertices.at(i, 2));
+            for (py::ssize_t i = 0; i < triangles.shape(0); ++i)
+            {
+              for (int k = 0; k < 3; ++k)
+                if (triangles.at(i, k) < 0 || triangles.at(i, k) > std::int64_t(INT32_MAX))
+                  throw std::invalid_argument("fcl_rs.Environment.add_mesh: triangle " + std::to_string(i) +
+                                              " has a negative or too large index");
+              mesh.triangles.emplace_back(std::size_t(triangles.at(i, 0)), std::size_t(triangles.at(i, 1)),
+                                          std::size_t(triangles.at(i, 2)));
+            }
+            e.env.addMesh(name, mesh, poseOf(pose, "pose"));
+          },
+          py::arg("name"), py::arg("vertices"), py::arg("triangles"), py::arg("pose"),
+          "Adds a mesh ((V, 3) vertices, (F, 3) indices), built as a tree of the environment's BV type.")
+      .def(
+          "set_pose", [](PyEnvironment& e, const std::string& name, const Poses& pose) {
+            e.env.setPose(name, poseOf(pose, "pose"));
+          },
+          py::arg("name"), py::arg("pose"), "Moves a named obstacle.")
+      .def("remove", [](PyEnvironment& e, const std::string& name) { e.env.remove(name); }, py::arg("name"))
+      .def(
+          "query",
+          [](const PyEnvironment& e, const ConfigurationArray& q, bool pairs, bool minimum_distance) {
+            EnvironmentRequest request;
+            request.colliding_pairs = pairs;
+            request.minimum_distance = minimum_distance;
+            const EnvironmentResult<double> r = e.env.query(configurationOf(q), request);
+            py::dict out;
+            out["colliding"] = r.colliding;
+            if (pairs)
+            {
+              py::list list;
+              for (const BodyPair& p : r.pairs) list.append(pairTuple(p));
+              out["pairs"] = list;
+            }
+            if (minimum_distance)
+            {
+              out["minimum_distance"] = r.minimum_distance;
+              out["nearest_pair"] = r.nearest_pair.link.empty() ? py::object(py::none()) : py::object(pairTuple(r.nearest_pair));
+              py::array_t<double> points({2, 3});
+              for (int i = 0; i < 2; ++i)
+                for (int k = 0; k < 3; ++k) points.mutable_at(i, k) = r.nearest_points[i][k];
+              out["nearest_points"] = points;
+            }
+            return out;
+          },
+          py::arg("q"), py::arg("pairs") = false, py::arg("minimum_distance") = false,
+          "Self and world collision at q (dof,). Returns a dict: 'colliding'; with pairs=True 'pairs', a list of\n"
+          "(link, other, other_is_link); with minimum_distance=True 'minimum_distance', 'nearest_pair' and\n"
+          "'nearest_points' (2, 3), link first, root frame.")
+      .def(
+          "check_batch",
+          [](const PyEnvironment& e, const ConfigurationArray& q, bool minimum_distance, int num_threads) {
+            EnvironmentRequest request;
+            request.minimum_distance = minimum_distance;
+            const auto rows = configurationsOf(q);
+            EnvironmentBatchResult<double> result;
+            {
+              py::gil_scoped_release release;
+              result = environmentBatch(e.env, rows, request, {num_threads});
+            }
+            const py::ssize_t n = py::ssize_t(result.colliding.size());
+            py::dict out;
+            out["colliding"] = handOver<std::uint8_t, bool>(std::move(result.colliding), {n});
+            if (minimum_distance) out["minimum_distance"] = handOver(std::move(result.minimum_distance), {n});
+            return out;
+          },
+          py::arg("q"), py::arg("minimum_distance") = false, py::arg("num_threads") = 0,
+          "query for every row of q (N, dof), on every core. Returns a dict: 'colliding' (N,) bool and with\n"
+          "minimum_distance=True 'minimum_distance' (N,).")
+      .def(
+          "check_motion",
+          [](const PyEnvironment& e, const ConfigurationArray& start, const ConfigurationArray& end, bool earliest,
+             double tolerance) {
+            MotionRequest<double> request;
+            request.earliest = earliest;
+            request.tolerance = tolerance;
+            const MotionResult<double> r = e.env.checkMotion(configurationOf(start), configurationOf(end), request);
+            py::dict out;
+            out["colliding"] = r.colliding;
+            out["parameter"] = r.parameter;
+            out["free_until"] = r.free_until;
+            return out;
+          },
+          py::arg("start"), py::arg("end"), py::arg("earliest") = true, py::arg("tolerance") = 1e-3,
+          "Every configuration of the straight segment start -> end, exactly (no sampling resolution). Returns a\n"
+          "dict: 'colliding'; 'parameter' (a colliding configuration's parameter in [0, 1]) and 'free_until'\n"
+          "(everything below it is free; with earliest=True within tolerance of 'parameter').")
+      .def(
+          "check_path",
+          [](const PyEnvironment& e, const ConfigurationArray& waypoints, bool earliest, double tolerance) {
+            const auto rows = configurationsOf(waypoints);
+            std::vector<fcl::VectorXd> points;
+            for (Eigen::Index i = 0; i < rows.rows(); ++i) points.push_back(rows.row(i).transpose());
+            MotionRequest<double> request;
+            request.earliest = earliest;
+            request.tolerance = tolerance;
+            const MotionResult<double> r = e.env.checkPath(points, request);
+            py::dict out;
+            out["colliding"] = r.colliding;
+            out["parameter"] = r.parameter;
+            out["free_until"] = r.free_until;
+            return out;
+          },
+          py::arg("waypoints"), py::arg("earliest") = true, py::arg("tolerance") = 1e-3,
+          "check_motion along the segments through the rows of waypoints (K, dof); 'parameter' is segment index\n"
+          "plus the parameter within it.")
+      .def(
+          "check_motion_batch",
+          [](const PyEnvironment& e, const ConfigurationArray& starts, const ConfigurationArray& ends, bool earliest,
+             double tolerance, int num_threads) {
+            MotionRequest<double> request;
+            request.earliest = earliest;
+            request.tolerance = tolerance;
+            const auto a = configurationsOf(starts);
+            const auto b = configurationsOf(ends);
+            MotionBatchResult<double> result;
+            {
+              py::gil_scoped_release release;
+              result = motionBatch(e.env, a, b, request, {num_threads});
+            }
+            const py::ssize_t n = py::ssize_t(result.colliding.size());
+            py::dict out;
+            out["colliding"] = handOver<std::uint8_t, bool>(std::move(result.colliding), {n});
+            out["parameter"] = handOver(std::move(result.parameter), {n});
+            out["free_until"] = handOver(std::move(result.free_until), {n});
+            return out;
+          },
+          py::arg("starts"), py::arg("ends"), py::arg("earliest") = false, py::arg("tolerance") = 1e-3,
+          py::arg("num_threads") = 0,
+          "check_motion for every row pair of starts and ends (N, dof), on every core. Returns a dict of (N,)\n"
+          "arrays: 'colliding', 'parameter', 'free_until'.");
 }
