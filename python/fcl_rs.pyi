@@ -1,9 +1,14 @@
 """RS bounding-volume trees for FCL: collision and distance queries, batches on every core, robots.
 
-Poses are 4x4 homogeneous matrices (numpy, float64). Batch calls take (N, 4, 4) poses or (N, dof)
-configurations and return numpy arrays; num_threads=0 uses every core, 1 the calling thread only, and the
-results never depend on it. C++ errors arrive as ValueError (bad arguments) or RuntimeError (unreadable files)
-with the library's messages.
+Poses are 4x4 homogeneous matrices: rigid transforms (finite, rotation orthonormal within 256 eps and proper,
+last row [0, 0, 0, 1]). Batch calls take (N, 4, 4) poses or (N, dof) configurations and return numpy arrays;
+num_threads=0 uses every core, 1 the calling thread only, and the results never depend on it.
+
+Arrays may be float64, float32 or integers (widened to float64; a float32 pose is checked at float32's
+tolerance, 256 float32 eps, then made exactly orthonormal in double); triangle indices must be integers. Every
+argument is checked: a bad value, shape or dtype raises ValueError naming the function and the argument (for
+example "fcl_rs.collide: pose_a is not a rigid transform: entry (0, 3) is nan"), a wrong Python type TypeError.
+Unreadable files raise RuntimeError with the library's message.
 """
 from typing import Dict, List, Tuple, Union
 
@@ -20,7 +25,7 @@ class Geometry:
 class Mesh(Geometry):
     """A triangle mesh with an RS bounding-volume tree (surface-area splits)."""
     def __init__(self, vertices: ArrayLike, triangles: ArrayLike) -> None:
-        """Builds the tree over (V, 3) vertices and (F, 3) vertex indices."""
+        """Builds the tree over (V, 3) finite vertices and (F, 3) integer vertex indices in [0, V)."""
     @staticmethod
     def from_file(path: str) -> Mesh:
         """Loads every mesh of a file assimp reads (OBJ, STL, PLY, DAE, ...) into one tree."""
@@ -29,6 +34,7 @@ class Mesh(Geometry):
     @property
     def num_triangles(self) -> int: ...
 
+# Every size is positive and finite (ValueError otherwise).
 class Box(Geometry):
     def __init__(self, x: float, y: float, z: float) -> None: ...
 
@@ -58,7 +64,7 @@ class Contact:
     def normal(self) -> npt.NDArray[np.float64]: ...
 
 class CollisionRequest:
-    num_max_contacts: int
+    num_max_contacts: int  # at least 1
     enable_contact: bool
     def __init__(self, num_max_contacts: int = 1, enable_contact: bool = False) -> None: ...
 
@@ -71,7 +77,7 @@ class CollisionResult:
 class DistanceRequest:
     enable_nearest_points: bool
     enable_signed_distance: bool
-    rel_err: float
+    rel_err: float  # non-negative and finite, as abs_err
     abs_err: float
     def __init__(self, enable_nearest_points: bool = False, enable_signed_distance: bool = False,
                  rel_err: float = 0.0, abs_err: float = 0.0) -> None: ...
@@ -123,49 +129,12 @@ class Robot:
     def pairs(self) -> List[Tuple[int, int]]:
         """The link index pairs every check tests."""
     def random_configurations(self, n: int, seed: int) -> npt.NDArray[np.float64]:
-        """(n, dof) configurations uniform within the limits, from a seed."""
+        """(n, dof) configurations uniform within the limits, from a seed (n >= 0)."""
     def check(self, q: ArrayLike) -> List[Tuple[int, int]]:
-        """The colliding link index pairs at configuration q (dof,)."""
+        """The colliding link index pairs at configuration q (dof,), finite."""
     def minimum_distance(self, q: ArrayLike) -> float:
         """The smallest distance between two checked links at q (0 when colliding)."""
     def check_batch(self, q: ArrayLike, pairs: bool = False, minimum_distance: bool = False,
                     num_threads: int = 0) -> Dict[str, Union[npt.NDArray, List[npt.NDArray]]]:
         """Self-collision of every row of q (N, dof): 'colliding' (N,) bool; with pairs=True 'pairs', a list of
         (k, 2) link index arrays; with minimum_distance=True 'minimum_distance' (N,)."""
-
-class Environment:
-    """A URDF robot among named obstacles: self and world collision per configuration, minimum distance, and exact
-    motion checks of straight joint-space segments (no sampling resolution)."""
-    def __init__(self, urdf: str, srdf: str = "", bv: str = "RS") -> None:
-        """bv: RS, OBBRSS, OBB or RSS (OBB: no distances and no motion checks); obstacle meshes use it too."""
-    @property
-    def dof(self) -> int: ...
-    @property
-    def link_names(self) -> List[str]: ...
-    @property
-    def lower(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def upper(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def obstacle_names(self) -> List[str]: ...
-    def add_shape(self, name: str, shape: Geometry, pose: ArrayLike) -> None:
-        """Adds a Box, Sphere, Cylinder, Capsule, Cone or Ellipsoid at a 4x4 pose in the robot's root frame."""
-    def add_mesh(self, name: str, vertices: ArrayLike, triangles: ArrayLike, pose: ArrayLike) -> None:
-        """Adds a mesh ((V, 3) vertices, (F, 3) indices), built as a tree of the environment's BV type."""
-    def set_pose(self, name: str, pose: ArrayLike) -> None: ...
-    def remove(self, name: str) -> None: ...
-    def query(self, q: ArrayLike, pairs: bool = False, minimum_distance: bool = False) -> Dict[str, object]:
-        """'colliding'; with pairs=True 'pairs' [(link, other, other_is_link)]; with minimum_distance=True
-        'minimum_distance', 'nearest_pair' and 'nearest_points' (2, 3), link first, root frame."""
-    def check_batch(self, q: ArrayLike, minimum_distance: bool = False,
-                    num_threads: int = 0) -> Dict[str, npt.NDArray]:
-        """query for every row of q (N, dof): 'colliding' (N,) bool, 'minimum_distance' (N,) on request."""
-    def check_motion(self, start: ArrayLike, end: ArrayLike, earliest: bool = True,
-                     tolerance: float = 1e-3) -> Dict[str, Union[bool, float]]:
-        """'colliding', 'parameter' (a colliding configuration's parameter in [0, 1]) and 'free_until'."""
-    def check_path(self, waypoints: ArrayLike, earliest: bool = True,
-                   tolerance: float = 1e-3) -> Dict[str, Union[bool, float]]:
-        """check_motion through the rows of waypoints (K, dof); 'parameter' is segment index + parameter."""
-    def check_motion_batch(self, starts: ArrayLike, ends: ArrayLike, earliest: bool = False, tolerance: float = 1e-3,
-                           num_threads: int = 0) -> Dict[str, npt.NDArray]:
-        """check_motion for every row pair (N, dof): 'colliding', 'parameter', 'free_until' (N,) arrays."""
