@@ -31,7 +31,7 @@ namespace fcl_rs {
 ///    never later than the true first contact, and a contact is reported only when the objects are within
 ///    v * toc_err of each other (toc_err times the largest distance a point can travel), so a free motion
 ///    with more clearance than that is reported free. num_max_iterations is not used (FCL's advancement has
-///    no limit either); at most 2 / toc_err steps are taken. toc_err must lie in (0, 1).
+///    no limit either); at most 2 / toc_err steps are taken.
 ///    FCL's own advancement (RSS and OBBRSS) can be late or miss a contact (FCL issues 120 and 555):
 ///    tests/test_continuous_collision.cpp counts where, on the same motions.
 /// The transform overloads need S = double with linear and screw motions: FCL 0.7's InterpMotion and

@@ -203,8 +203,7 @@ S conservativeAdvancement(const fcl::CollisionGeometry<S>* o1, const fcl::Motion
                           const fcl::CollisionGeometry<S>* o2, const fcl::MotionBase<S>* motion2,
                           const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result)
 {
-  if (!(request.toc_err > 0) || !(request.toc_err < 1))
-    throw std::invalid_argument(std::string(kApi) + ": request.toc_err must be in (0, 1) for conservative advancement");
+  // requireValidRequest has checked toc_err > 0, so each step below is at least toc_err / 2.
   const Ball<S> ball1 = boundingBall(*o1), ball2 = boundingBall(*o2);
   const SpeedBound<S> v1 = speedBound(*motion1, ball1.centre), v2 = speedBound(*motion2, ball2.centre);
   S radius1 = ball1.radius, radius2 = ball2.radius;
