@@ -136,7 +136,7 @@ int main(int argc, char** argv)
       for (const auto& m : set) truth.push_back(reference(torus.get(), rs2, m, 2000));
 
       const auto ccd = [&](const fcl::CollisionGeometry<S>* o1, const fcl::CollisionGeometry<S>* o2,
-                           fcl::CCDCType solver, std::size_t samples, bool fcl_own) {
+                           fcl::CCDSolverType solver, std::size_t samples, bool fcl_own) {
         return [=](const Motion& m) {
           fcl::ContinuousCollisionRequest<S> request;
           request.ccd_solver_type = solver;

@@ -304,7 +304,10 @@ TYPED_TEST(ConservativeAdvancement, NeverLaterThanTheReference)
       else
       {
         ++frees;
-        if (ref.free_clearance > 0.05) EXPECT_FALSE(rs.is_collide) << "free by " << ref.free_clearance;
+        if (ref.free_clearance > 0.05)
+        {
+          EXPECT_FALSE(rs.is_collide) << "free by " << ref.free_clearance;
+        }
       }
       if constexpr (is_double)
       {
@@ -377,7 +380,10 @@ TYPED_TEST(ConservativeAdvancement, GrazingPasses)
       fcl::ContinuousCollisionResult<S> rs;
       fcl_rs::continuousCollide<S>(c.o1, c.m1.get(), c.o2, c.m2.get(), request, rs);
       EXPECT_EQ(rs.is_collide, gap < 0);
-      if (gap < 0) EXPECT_LE(rs.time_of_contact, ref.toc + 1e-4);
+      if (gap < 0)
+      {
+        EXPECT_LE(rs.time_of_contact, ref.toc + 1e-4);
+      }
       fcl::ContinuousCollisionRequest<S> naive;
       fcl::ContinuousCollisionResult<S> sampled;
       fcl_rs::continuousCollide<S>(c.o1, c.m1.get(), c.o2, c.m2.get(), naive, sampled);
