@@ -47,6 +47,23 @@ struct SelfCheckResult
   S minimum_distance = 0;
 };
 
+/// One collision element of a link: its mesh tree (in the checker's BV type) or one box, cylinder or sphere, placed
+/// in the link frame. Read-only and owned by the checker.
+template <typename S>
+struct LinkElement
+{
+  const fcl::CollisionGeometry<S>* geometry;
+  fcl::Transform3<S> origin;
+};
+
+/// A ball in a link's frame that holds all its collision geometry.
+template <typename S>
+struct LinkSphere
+{
+  fcl::Vector3<S> center = fcl::Vector3<S>::Zero();
+  S radius = 0;
+};
+
 /// Self-collision checker for one robot and one BV type.
 ///
 /// Every link with collision geometry gets one BVHModel<BV> holding all its <mesh> elements, plus one FCL shape
@@ -96,7 +113,8 @@ public:
   /// The colliding pairs at configuration q (in the order of pairs()). When stats is given, the BV and
   /// triangle tests of the mesh-mesh queries are added to it.
   std::vector<LinkPair> check(const fcl::VectorX<S>& q, QueryStats* stats = nullptr);
-  /// The same at given link poses, one per link (as Kinematics::linkPoses returns them).
+  /// The same at given link poses, one per link (as Kinematics::linkPoses returns them). Throws
+  /// std::invalid_argument naming poses[i] when a pose is not a rigid transform (fcl_rs/validate.h).
   std::vector<LinkPair> checkPoses(const std::vector<fcl::Transform3<S>>& poses, QueryStats* stats = nullptr);
   /// Whether any pair collides at q; stops at the first colliding pair (the query a planner makes).
   bool inCollision(const fcl::VectorX<S>& q);
@@ -104,6 +122,15 @@ public:
   /// checker, so it may be called from many threads at once. Throws std::invalid_argument for KDOP18 (its
   /// trees are refitted in place per check) and, with minimum_distance, for OBB (FCL has no OBB distance).
   SelfCheckResult<S> query(const fcl::VectorX<S>& q, const SelfCheckRequest& request) const;
+  /// query at given link poses (as Kinematics::linkPoses returns them), for callers that need the poses
+  /// themselves (fcl_rs/robot/environment.h): kinematics run once per configuration. Thread-safe as query.
+  SelfCheckResult<S> queryPoses(const std::vector<fcl::Transform3<S>>& poses, const SelfCheckRequest& request) const;
+
+  /// The link's collision elements, for queries against other geometry (empty for a link without geometry).
+  /// Throws std::invalid_argument for KDOP18, whose trees live in the world frame.
+  std::vector<LinkElement<S>> linkElements(int link) const;
+  /// The link's bounding sphere (radius 0 for a link without geometry).
+  LinkSphere<S> linkSphere(int link) const;
 
 private:
   struct Impl;

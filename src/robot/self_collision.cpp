@@ -30,6 +30,7 @@
 #include "fcl_rs/distance.h"
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/collision_traversal.h"
+#include "fcl_rs/validate.h"
 
 namespace fcl_rs {
 
@@ -622,6 +623,7 @@ std::vector<LinkPair> SelfCollision<S>::checkPoses(const std::vector<fcl::Transf
   if (poses.size() != impl_->links.size())
     throw std::invalid_argument("fcl_rs::SelfCollision: " + std::to_string(poses.size()) + " poses for " +
                                 std::to_string(impl_->links.size()) + " links");
+  requireRigidTransforms(poses, "fcl_rs::SelfCollision::checkPoses", "poses");
   impl_->placement.poses = poses;
   return impl_->testPairs(impl_->placement, stats, /*stop_at_first=*/false);
 }
@@ -636,14 +638,26 @@ bool SelfCollision<S>::inCollision(const fcl::VectorX<S>& q)
 template <typename S>
 SelfCheckResult<S> SelfCollision<S>::query(const fcl::VectorX<S>& q, const SelfCheckRequest& request) const
 {
+  std::vector<fcl::Transform3<S>> poses;
+  impl_->kinematics.linkPoses(q, poses);
+  return queryPoses(poses, request);
+}
+
+template <typename S>
+SelfCheckResult<S> SelfCollision<S>::queryPoses(const std::vector<fcl::Transform3<S>>& poses,
+                                                const SelfCheckRequest& request) const
+{
   if (impl_->bv == BVType::kKDOP18)
     throw std::invalid_argument("fcl_rs::SelfCollision::query: KDOP18 trees are refitted in place per check, so "
                                 "they cannot be shared; use check() or a BV type with local-frame trees");
   if (request.minimum_distance && impl_->bv == BVType::kOBB)
     throw std::invalid_argument("fcl_rs::SelfCollision::query: FCL has no distance query for OBB trees; "
                                 "use RS, OBBRSS or RSS for minimum distances");
+  if (poses.size() != impl_->links.size())
+    throw std::invalid_argument("fcl_rs::SelfCollision::queryPoses: " + std::to_string(poses.size()) +
+                                " poses for " + std::to_string(impl_->links.size()) + " links");
   typename Impl::Placement placement;
-  impl_->kinematics.linkPoses(q, placement.poses);
+  placement.poses = poses;
   SelfCheckResult<S> result;
   result.pairs = impl_->testPairs(placement, nullptr, /*stop_at_first=*/!request.colliding_pairs);
   result.colliding = !result.pairs.empty();
@@ -651,6 +665,35 @@ SelfCheckResult<S> SelfCollision<S>::query(const fcl::VectorX<S>& q, const SelfC
   if (request.minimum_distance)
     result.minimum_distance = result.colliding ? S(0) : impl_->minimumDistance(placement);
   return result;
+}
+
+template <typename S>
+std::vector<LinkElement<S>> SelfCollision<S>::linkElements(int link) const
+{
+  if (link < 0 || link >= int(impl_->links.size()))
+    throw std::invalid_argument("fcl_rs::SelfCollision::linkElements: link " + std::to_string(link) +
+                                " out of range [0, " + std::to_string(impl_->links.size()) + ")");
+  const typename Impl::Link& l = impl_->links[link];
+  std::vector<LinkElement<S>> elements;
+  if (l.has_mesh)
+  {
+    const fcl::CollisionGeometry<S>* model = impl_->trees->localModel(link);
+    if (!model)
+      throw std::invalid_argument("fcl_rs::SelfCollision::linkElements: KDOP18 trees live in the world frame; "
+                                  "use a BV type with local-frame trees");
+    elements.push_back({model, fcl::Transform3<S>::Identity()});
+  }
+  for (const typename Impl::Shape& s : l.shapes) elements.push_back({s.geometry.get(), s.origin});
+  return elements;
+}
+
+template <typename S>
+LinkSphere<S> SelfCollision<S>::linkSphere(int link) const
+{
+  if (link < 0 || link >= int(impl_->links.size()))
+    throw std::invalid_argument("fcl_rs::SelfCollision::linkSphere: link " + std::to_string(link) +
+                                " out of range [0, " + std::to_string(impl_->links.size()) + ")");
+  return {impl_->links[link].center, impl_->links[link].radius};
 }
 
 template class SelfCollision<float>;
