@@ -311,17 +311,20 @@ public:
 
 private:
   /// FCL's meshShapeDistanceOrientedNodeLeafTesting with two faults of FCL's sphere-triangle distance (used by
-  /// both solvers) mended: it writes nothing when the two intersect, so FCL then reports an uninitialized
-  /// distance (here -1, what FCL's other shape-triangle distances report), and it returns each nearest point
-  /// in its own object's frame (here moved to the world frame, like every other shape's).
+  /// both solvers) mended: it writes nothing when the two intersect, so FCL reports an uninitialized distance
+  /// (in practice a denormal near 0; here exactly 0, as FCL's mesh-mesh distance while colliding, whereas
+  /// FCL's other shape-triangle distances report -1; with enable_signed_distance -1, so that the caller
+  /// replaces it by the penetration as for the other shapes), and it returns each nearest point in its own
+  /// object's frame (here moved to the world frame, like every other shape's).
   void triangleDistance(int primitive_id) const
   {
+    constexpr bool sphere = std::is_same<Shape, fcl::Sphere<S>>::value;
     const auto t = triangleVertices(this->vertices, this->tri_indices[primitive_id]);
-    S d = -1;
+    S d = sphere && !this->request.enable_signed_distance ? 0 : -1;
     fcl::Vector3<S> on_mesh = fcl::Vector3<S>::Zero(), on_shape = fcl::Vector3<S>::Zero();
     const bool apart = this->nsolver->shapeTriangleDistance(*this->model2, this->tf2, t[0], t[1], t[2], this->tf1, &d,
                                                             &on_shape, &on_mesh);
-    if (std::is_same<Shape, fcl::Sphere<S>>::value && apart)
+    if (sphere && apart)
     {
       on_shape = this->tf2 * on_shape;
       on_mesh = this->tf1 * on_mesh;
