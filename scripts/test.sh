@@ -53,7 +53,7 @@ asan="$root/build-asan"
 cmake -S "$root" -B "$asan" $(generator "$asan") -DCMAKE_CXX_COMPILER=clang++ "${sanitized[@]}" -DFCL_RS_FUZZ=ON \
   -DFCL_RS_SANITIZE=fuzzer-no-link,address,undefined > /dev/null
 mapfile -t tests < <(test_targets "$asan")
-cmake --build "$asan" -j2 --target "${tests[@]}" fuzz_mesh_load fuzz_rs fuzz_triangle_intersection
+cmake --build "$asan" -j2 --target "${tests[@]}" fuzz_mesh_load fuzz_rs fuzz_triangle_intersection fuzz_mesh_shape
 # The GoogleTest cases (label unit); the other CTest tests run the examples and tools, not built here.
 (cd "$asan" && ctest --output-on-failure -j2 -L unit)
 
@@ -67,11 +67,11 @@ cmake -S "$root" -B "$tsan" $(generator "$tsan") "${sanitized[@]}" -DFCL_RS_SANI
 cmake --build "$tsan" -j2 --target test_concurrency test_batch
 (cd "$tsan" && ctest --output-on-failure -j2 -L unit -R '^(Concurrency|Batch)\.')
 
-# Three targets share the stage's two minutes (as two did at 60 s each before the leaf test's target).
-seconds="${FCL_RS_FUZZ_SECONDS:-40}"
+# Four targets share the stage's two minutes (as two did at 60 s each before the leaf tests' targets).
+seconds="${FCL_RS_FUZZ_SECONDS:-30}"
 seed="${FCL_RS_FUZZ_SEED:-1}"
-stage "libFuzzer: fuzz_mesh_load, fuzz_rs and fuzz_triangle_intersection, ${seconds} s each, seed ${seed} (build-asan/fuzz)"
-for target in fuzz_mesh_load fuzz_rs fuzz_triangle_intersection; do
+stage "libFuzzer: fuzz_mesh_load, fuzz_rs, fuzz_triangle_intersection and fuzz_mesh_shape, ${seconds} s each, seed ${seed} (build-asan/fuzz)"
+for target in fuzz_mesh_load fuzz_rs fuzz_triangle_intersection fuzz_mesh_shape; do
   corpus="$asan/fuzz/corpus/$target"
   mkdir -p "$corpus"
   [ -d "$root/fuzz/corpus/$target" ] && cp -n "$root/fuzz/corpus/$target"/* "$corpus/" 2> /dev/null || true

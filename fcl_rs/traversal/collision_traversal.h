@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/narrowphase/triangle_intersection.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/moved_frames.h"
 
 namespace fcl_rs {
@@ -186,6 +188,9 @@ public:
   }
   /// node.overlap(bv_), with bv_'s frame moved once per query.
   bool overlaps(const RS<S>& node) const { return detail::overlap(moved_, node, bv_, kDefaultOverlapTest); }
+  /// Widens the test's rounding offsets by TriangleShapeLeaf::boundOffsets, so that it never prunes a triangle the
+  /// leaf test reports.
+  void coverLeaves(S offsets) { moved_ = detail::BoxedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_, offsets); }
 
 private:
   /// bv_in_mesh: the shape's RS in the mesh's frame.
@@ -224,11 +229,13 @@ public:
     if (node.empty()) return false;
     const fcl::Vector3<S> n = node.axes().transpose() * h_.n;
     const S lowest = h_.n.dot(node.origin) - node.support(-n);
-    return lowest <= h_.d + shapeRoundingBound(node, h_.d);
+    return lowest <= h_.d + shapeRoundingBound(node, std::abs(h_.d) + offsets_);
   }
+  void coverLeaves(S offsets) { offsets_ = offsets; }
 
 private:
   fcl::Halfspace<S> h_;
+  S offsets_ = 0;
 };
 
 template <typename S>
@@ -242,16 +249,18 @@ public:
     if (node.empty()) return false;
     const fcl::Vector3<S> n = node.axes().transpose() * p_.n;
     const S at_origin = p_.n.dot(node.origin);
-    const S tol = shapeRoundingBound(node, p_.d);
+    const S tol = shapeRoundingBound(node, std::abs(p_.d) + offsets_);
     return at_origin - node.support(-n) <= p_.d + tol && at_origin + node.support(n) >= p_.d - tol;
   }
+  void coverLeaves(S offsets) { offsets_ = offsets; }
 
 private:
   fcl::Plane<S> p_;
+  S offsets_ = 0;
 };
 
 /// Mesh-shape collision in the mesh's frame: the shape is bounded once per query in that frame;
-/// leaves use FCL's own triangle-shape test.
+/// leaves use the exact triangle-shape test (narrowphase/triangle_shape.h), FCL's solver only for contact details.
 template <typename Shape, typename NarrowPhaseSolver>
 class MeshShapeCollisionTraversalNodeRS
   : public fcl::detail::MeshShapeCollisionTraversalNode<RS<typename Shape::S>, Shape, NarrowPhaseSolver>
@@ -265,15 +274,16 @@ public:
     return !bound->overlaps(this->model1->getBV(b1).bv);
   }
 
-  void leafTesting(int b1, int b2) const override
+  void leafTesting(int b1, int) const override
   {
-    fcl::detail::meshShapeCollisionOrientedNodeLeafTesting(
-        b1, b2, this->model1, *this->model2, this->vertices, this->tri_indices, this->tf1, this->tf2,
-        this->nsolver, this->enable_statistics, this->cost_density, this->num_leaf_tests, this->request,
-        *this->result);
+    if (this->enable_statistics) this->num_leaf_tests++;
+    meshShapeLeafTesting(*leaf, primitiveId(this->model1->getBV(b1)), this->model1, *this->model2, this->vertices,
+                         this->tri_indices, this->tf1, this->tf2, this->nsolver, this->cost_density, this->request,
+                         *this->result);
   }
 
   std::unique_ptr<ShapeBound<S, Shape>> bound;
+  std::optional<TriangleShapeLeaf<Shape>> leaf;
 };
 
 /// Sets up node for the mesh model1 at tf1 against the shape model2 at tf2; false unless model1 is a triangle
@@ -298,8 +308,11 @@ bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& nod
   node.request = request;
   node.result = &result;
   node.cost_density = model1.cost_density * model2.cost_density;
+  node.leaf.emplace(model2, tf1, tf2);
   node.bound = bound ? std::move(bound)
                      : std::make_unique<ShapeBound<typename Shape::S, Shape>>(model2, tf1.inverse(Eigen::Isometry) * tf2);
+  const RS<typename Shape::S>& root = model1.getBV(0).bv;
+  node.bound->coverLeaves(node.leaf->boundOffsets(root.origin.template lpNorm<1>() + 2 * detail::Box<typename Shape::S>(root).reach()));
   return true;
 }
 

@@ -6,7 +6,7 @@
 #include <array>
 #include <limits>
 #include <memory>
-#include <type_traits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -19,6 +19,7 @@
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/narrowphase/triangle_intersection.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/moved_frames.h"
 #include "fcl_rs/traversal/per_query_table.h"
 
@@ -282,7 +283,8 @@ private:
 };
 
 /// Mesh-shape distance as FCL's MeshShapeDistanceTraversalNodeRSS, but with the shape bounded in the
-/// mesh's frame; leaves use FCL's own triangle-shape distance and nearest points, always in the world frame.
+/// mesh's frame; leaves use the exact triangle-shape distance (narrowphase/triangle_shape.h), nearest points in the
+/// world frame, -1 for a triangle that meets the shape (FCL's convention for its mesh-shape leaves).
 template <typename Shape, typename NarrowPhaseSolver>
 class MeshShapeDistanceTraversalNodeRS
   : public fcl::detail::MeshShapeDistanceTraversalNode<RS<typename Shape::S>, Shape, NarrowPhaseSolver>
@@ -309,23 +311,14 @@ public:
 
   std::unique_ptr<ShapeDistanceBound<S, Shape>> bound;
 
+  std::optional<TriangleShapeLeaf<Shape>> leaf;
+
 private:
-  /// FCL's meshShapeDistanceOrientedNodeLeafTesting with two faults of FCL's sphere-triangle distance (used by
-  /// both solvers) mended: it writes nothing when the two intersect, so FCL then reports an uninitialized
-  /// distance (here -1, what FCL's other shape-triangle distances report), and it returns each nearest point
-  /// in its own object's frame (here moved to the world frame, like every other shape's).
   void triangleDistance(int primitive_id) const
   {
     const auto t = triangleVertices(this->vertices, this->tri_indices[primitive_id]);
-    S d = -1;
-    fcl::Vector3<S> on_mesh = fcl::Vector3<S>::Zero(), on_shape = fcl::Vector3<S>::Zero();
-    const bool apart = this->nsolver->shapeTriangleDistance(*this->model2, this->tf2, t[0], t[1], t[2], this->tf1, &d,
-                                                            &on_shape, &on_mesh);
-    if (std::is_same<Shape, fcl::Sphere<S>>::value && apart)
-    {
-      on_shape = this->tf2 * on_shape;
-      on_mesh = this->tf1 * on_mesh;
-    }
+    fcl::Vector3<S> on_mesh, on_shape;
+    const S d = leaf->distance(t.data(), on_mesh, on_shape);
     this->result->update(d, this->model1, this->model2, primitive_id, fcl::DistanceResult<S>::NONE, on_mesh, on_shape);
   }
 };
@@ -353,6 +346,7 @@ bool initialize(MeshShapeDistanceTraversalNodeRS<Shape, NarrowPhaseSolver>& node
   node.rel_err = request.rel_err;
   node.abs_err = request.abs_err;
   node.bound.reset(new ShapeDistanceBound<S, Shape>(model2, tf1.inverse(Eigen::Isometry) * tf2));
+  node.leaf.emplace(model2, tf1, tf2);
   return true;
 }
 
