@@ -1,4 +1,4 @@
-// fcl_rs_bench_selfcheck: µs per full-robot self-collision check per BV type, as ratios to OBBRSS in one run.
+// fcl_rs_bench_selfcheck: µs per full-robot self-collision check per BV type, as ratios to the fastest FCL type.
 //
 // Per robot (panda and ur5 from ../shared/data, or any --urdf): the same seeded configurations for every BV
 // type; per type the tree build time, µs per full check (all pairs) and per first-hit check (what a planner
@@ -8,11 +8,14 @@
 // machine inflates no type more than another. Per block and type the full check runs twice: first right after
 // the other types' runs (cold: KDOP18's refit streams its links' vertices and trees through the cache and evicts
 // the others' trees), then again with the type's trees in cache (warm, as when a planner calls the same checker
-// again and again), followed by the warm first-hit check.
+// again and again), followed by the warm first-hit check. Each time column's ratio compares RS with the fastest of
+// FCL's types in that column (for collision-only checks usually OBB). The minimum-distance check (query with
+// minimum_distance) is timed once per block on its first configuration, for the types that measure distance.
 
 #include "bench_common.h"
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -50,6 +53,7 @@ struct Row
   std::size_t pairs = 0;
   double build_ms = 0;
   double us_check = 0, us_first = 0, us_cold = 0;
+  double us_distance = std::numeric_limits<double>::quiet_NaN();  ///< query with minimum_distance
   double bv_tests = 0, tri_tests = 0;
   double colliding_share = 0;
   int disagreements = 0;
@@ -119,7 +123,12 @@ std::vector<Row> benchRobot(const std::string& urdf, const std::string& srdf, co
   const std::size_t blocks = (configs.size() + kBlock - 1) / kBlock;
   const double inf = std::numeric_limits<double>::infinity();
   std::vector<std::vector<double>> full(checkers.size(), std::vector<double>(blocks, inf));
-  auto first = full, cold = full;
+  auto first = full, cold = full, distance = full;
+  fcl_rs::SelfCheckRequest distance_request;
+  distance_request.minimum_distance = true;
+  const auto measuresDistance = [](fcl_rs::BVType bv) {
+    return bv != fcl_rs::BVType::kOBB && bv != fcl_rs::BVType::kKDOP18;
+  };
   std::vector<double> fk(blocks, inf);
   std::vector<fcl::Transform3d> poses;
   auto seconds = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
@@ -146,6 +155,12 @@ std::vector<Row> benchRobot(const std::string& urdf, const std::string& srdf, co
         t0 = Clock::now();
         for (std::size_t c = begin; c < end; ++c) g_sink += checkers[k].inCollision(configs[c]);
         first[k][b] = std::min(first[k][b], seconds(t0));
+        if (measuresDistance(checkers[k].bvType()))
+        {
+          t0 = Clock::now();
+          g_sink += std::size_t(checkers[k].query(configs[begin], distance_request).minimum_distance > 0);
+          distance[k][b] = std::min(distance[k][b], seconds(t0));
+        }
       }
     }
   auto usPerConfig = [&](const std::vector<double>& t) {
@@ -156,6 +171,8 @@ std::vector<Row> benchRobot(const std::string& urdf, const std::string& srdf, co
     rows[k].us_check = usPerConfig(full[k]);
     rows[k].us_first = usPerConfig(first[k]);
     rows[k].us_cold = usPerConfig(cold[k]);
+    if (measuresDistance(checkers[k].bvType()))
+      rows[k].us_distance = 1e6 * std::accumulate(distance[k].begin(), distance[k].end(), 0.0) / blocks;
   }
   std::printf("%s: %zu links, %d joint variables, %zu pairs tested per check, %d configurations (seed %llu), "
               "forward kinematics alone %s us\n",
@@ -164,11 +181,22 @@ std::vector<Row> benchRobot(const std::string& urdf, const std::string& srdf, co
   return rows;
 }
 
-const Row& obbrssRow(const std::vector<Row>& rows, const std::string& robot)
+/// The smallest value of a column over the robot's FCL types (every type but RS).
+double fastestFcl(const std::vector<Row>& rows, const std::string& robot, double Row::*column)
 {
+  double best = std::numeric_limits<double>::quiet_NaN();
   for (const Row& r : rows)
-    if (r.robot == robot && r.bv == fcl_rs::BVType::kOBBRSS) return r;
-  return rows.front();
+    if (r.robot == robot && r.bv != fcl_rs::BVType::kRS && !(r.*column >= best)) best = r.*column;
+  return best;
+}
+
+/// The name of the FCL type with the smallest value of a column.
+const char* fastestFclName(const std::vector<Row>& rows, const std::string& robot, double Row::*column)
+{
+  const double best = fastestFcl(rows, robot, column);
+  for (const Row& r : rows)
+    if (r.robot == robot && r.bv != fcl_rs::BVType::kRS && r.*column == best) return fcl_rs::bvTypeName(r.bv);
+  return "-";
 }
 
 }  // namespace
@@ -220,21 +248,31 @@ int main(int argc, char** argv)
 
   std::printf("\nmachine: nproc %d, CPU %s; compiler %s; single-threaded timing with steady_clock\n", onlineCpus(),
               cpuModel().c_str(), __VERSION__);
-  std::printf("%-7s %-7s %9s %10s %10s %9s %10s %9s %10s %9s %9s %9s %8s\n", "robot", "BV", "build ms", "us/check",
-              "us/1st-hit", "vs OBBRSS", "cold", "vs OBBRSS", "BV tests", "vs OBBRSS", "tri tests", "colliding",
-              "differ");
+  std::printf("%-7s %-7s %9s %10s %9s %10s %9s %10s %9s %11s %9s %10s %9s %9s %8s\n", "robot", "BV", "build ms",
+              "us/check", "vs best", "us/1st-hit", "vs best", "cold", "vs best", "us/min-dist", "x 1st-hit",
+              "BV tests", "tri tests", "colliding", "differ");
   for (const Row& r : rows)
   {
-    const Row& base = obbrssRow(rows, r.robot);
-    std::printf("%-7s %-7s %9.1f %10s %10s %9s %10s %9s %10.1f %9s %9.1f %8.1f%% %8d\n", r.robot.c_str(),
-                fcl_rs::bvTypeName(r.bv), r.build_ms, timeText(r.us_check).c_str(), timeText(r.us_first).c_str(),
-                ratioText(ratio(r.us_check, base.us_check)).c_str(), timeText(r.us_cold).c_str(),
-                ratioText(ratio(r.us_cold, base.us_cold)).c_str(), r.bv_tests,
-                ratioText(ratio(r.bv_tests, base.bv_tests)).c_str(), r.tri_tests, 100 * r.colliding_share,
-                r.disagreements);
+    std::printf("%-7s %-7s %9.1f %10s %9s %10s %9s %10s %9s %11s %9s %10.1f %9.1f %8.1f%% %8d\n", r.robot.c_str(),
+                fcl_rs::bvTypeName(r.bv), r.build_ms, timeText(r.us_check).c_str(),
+                ratioText(ratio(r.us_check, fastestFcl(rows, r.robot, &Row::us_check))).c_str(),
+                timeText(r.us_first).c_str(),
+                ratioText(ratio(r.us_first, fastestFcl(rows, r.robot, &Row::us_first))).c_str(),
+                timeText(r.us_cold).c_str(),
+                ratioText(ratio(r.us_cold, fastestFcl(rows, r.robot, &Row::us_cold))).c_str(),
+                std::isnan(r.us_distance) ? "-" : timeText(r.us_distance).c_str(),
+                ratioText(ratio(r.us_distance, r.us_first)).c_str(), r.bv_tests, r.tri_tests,
+                100 * r.colliding_share, r.disagreements);
   }
+  for (const Row& r : rows)
+    if (r.bv == fcl_rs::BVType::kRS)
+      std::printf("%s: fastest FCL type per check %s, per first-hit check %s, cold %s\n", r.robot.c_str(),
+                  fastestFclName(rows, r.robot, &Row::us_check), fastestFclName(rows, r.robot, &Row::us_first),
+                  fastestFclName(rows, r.robot, &Row::us_cold));
   std::printf("\nus/check: forward kinematics and every pair, trees in cache; us/1st-hit: stops at the first colliding\n"
-              "pair; cold: us/check right after the other BV types' runs (KDOP18's refits evict the trees).\n"
+              "pair; cold: us/check right after the other BV types' runs (KDOP18's refits evict the trees). vs best:\n"
+              "time over the fastest FCL type's in the same column. us/min-dist: query with minimum_distance (exact), on\n"
+              "the first configuration of each block of 16; x 1st-hit: over the type's first-hit check.\n"
               "BV and triangle tests count mesh-mesh queries only (mesh-shape queries go through FCL's GJK).\n"
               "differ: configurations whose colliding pairs differ from RS's (expected 0).\n");
 
@@ -243,17 +281,16 @@ int main(int argc, char** argv)
     try
     {
       fcl_rs::tools::CsvWriter csv(o.csv, {"robot", "bv", "configs", "pairs", "build_ms", "us_per_check",
-                                           "us_per_first_hit", "time_vs_obbrss", "us_per_check_cold",
-                                           "cold_time_vs_obbrss", "bv_tests_per_check",
-                                           "bv_tests_vs_obbrss", "tri_tests_per_check", "colliding_share",
+                                           "time_vs_fastest_fcl", "us_per_first_hit", "first_hit_vs_fastest_fcl",
+                                           "us_per_check_cold", "cold_vs_fastest_fcl", "us_per_min_distance",
+                                           "bv_tests_per_check", "tri_tests_per_check", "colliding_share",
                                            "differ_from_rs"});
       for (const Row& r : rows)
-      {
-        const Row& base = obbrssRow(rows, r.robot);
-        csv.row({r.robot, fcl_rs::bvTypeName(r.bv), r.configs, r.pairs, r.build_ms, r.us_check, r.us_first,
-                 ratio(r.us_check, base.us_check), r.us_cold, ratio(r.us_cold, base.us_cold), r.bv_tests,
-                 ratio(r.bv_tests, base.bv_tests), r.tri_tests, r.colliding_share, r.disagreements});
-      }
+        csv.row({r.robot, fcl_rs::bvTypeName(r.bv), r.configs, r.pairs, r.build_ms, r.us_check,
+                 ratio(r.us_check, fastestFcl(rows, r.robot, &Row::us_check)), r.us_first,
+                 ratio(r.us_first, fastestFcl(rows, r.robot, &Row::us_first)), r.us_cold,
+                 ratio(r.us_cold, fastestFcl(rows, r.robot, &Row::us_cold)), r.us_distance, r.bv_tests, r.tri_tests,
+                 r.colliding_share, r.disagreements});
       csv.close();
     }
     catch (const std::exception& e)

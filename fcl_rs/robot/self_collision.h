@@ -47,6 +47,23 @@ struct SelfCheckResult
   S minimum_distance = 0;
 };
 
+/// One collision element of a link: its mesh tree (in the checker's BV type) or one box, cylinder or sphere, placed
+/// in the link frame. Read-only and owned by the checker.
+template <typename S>
+struct LinkElement
+{
+  const fcl::CollisionGeometry<S>* geometry;
+  fcl::Transform3<S> origin;
+};
+
+/// A ball in a link's frame that holds all its collision geometry.
+template <typename S>
+struct LinkSphere
+{
+  fcl::Vector3<S> center = fcl::Vector3<S>::Zero();
+  S radius = 0;
+};
+
 /// Self-collision checker for one robot and one BV type.
 ///
 /// Every link with collision geometry gets one BVHModel<BV> holding all its <mesh> elements, plus one FCL shape
@@ -54,7 +71,14 @@ struct SelfCheckResult
 /// except adjacent links (a link and its nearest ancestor with geometry, so links without geometry such as
 /// panda_link8 do not hide an adjacency) and disabled pairs (SRDF). A check runs forward kinematics, skips
 /// pairs whose bounding spheres are apart, then tests the link geometries: a pair collides when any of its
-/// elements touch (FCL's triangle and GJK tests decide, so every BV type reports the same pairs).
+/// elements touch (FCL's triangle and GJK tests decide, so every BV type reports the same pairs). With RS, each
+/// link's elements also share one RS volume, tested after the spheres and before any element query, and a
+/// shape is tested against the mesh's root volume before its traversal is set up. A first-contact check
+/// (inCollision, query without colliding_pairs) tests the pair that collided last first.
+/// A minimum-distance query measures pairs in order of a lower bound on their distance (the spheres' gap, with
+/// RS the link volumes' distance) and stops when the bound reaches the best distance so far; each measurement
+/// starts at that best, so its traversal skips what cannot beat it. Exact distances between nearby links still
+/// cost far more than a collision check (fcl_rs_bench_selfcheck's us/min-dist column, docs/robots.md).
 ///
 /// How each BV type is queried (the fastest path FCL offers for it):
 /// * RS, OBBRSS, OBB, RSS: mesh-mesh in the links' own frames through collideWithStats (the relative
@@ -97,6 +121,15 @@ public:
   /// checker, so it may be called from many threads at once. Throws std::invalid_argument for KDOP18 (its
   /// trees are refitted in place per check) and, with minimum_distance, for OBB (FCL has no OBB distance).
   SelfCheckResult<S> query(const fcl::VectorX<S>& q, const SelfCheckRequest& request) const;
+  /// query at given link poses (as Kinematics::linkPoses returns them), for callers that need the poses
+  /// themselves (fcl_rs/robot/environment.h): kinematics run once per configuration. Thread-safe as query.
+  SelfCheckResult<S> queryPoses(const std::vector<fcl::Transform3<S>>& poses, const SelfCheckRequest& request) const;
+
+  /// The link's collision elements, for queries against other geometry (empty for a link without geometry).
+  /// Throws std::invalid_argument for KDOP18, whose trees live in the world frame.
+  std::vector<LinkElement<S>> linkElements(int link) const;
+  /// The link's bounding sphere (radius 0 for a link without geometry).
+  LinkSphere<S> linkSphere(int link) const;
 
 private:
   struct Impl;

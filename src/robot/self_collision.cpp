@@ -3,6 +3,7 @@
 #include "fcl_rs/robot/self_collision.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <limits>
@@ -61,6 +62,14 @@ namespace {
 
 template <typename S>
 using Tf = fcl::Transform3<S>;
+
+/// |ta.t|_1 + |tb.t|_1: what an RS test between volumes posed by ta and tb adds for the world frame's rounding
+/// (as the tree traversals do).
+template <typename S>
+S worldOffsets(const Tf<S>& ta, const Tf<S>& tb)
+{
+  return ta.translation().template lpNorm<1>() + tb.translation().template lpNorm<1>();
+}
 
 /// A box, cylinder or sphere element of a link.
 template <typename S>
@@ -139,13 +148,20 @@ private:
   bool meshShapeRS(int a, const Tf<S>& ta, const LinkShape<S>& shape, const Tf<S>& ts,
                    const fcl::CollisionRequest<S>& request) const
   {
+    // Most shapes that pass the link test are still apart from the mesh's root: one plain RS test decides them
+    // before the shape's volume is placed and the traversal set up (cost proportional to the nodes visited).
+    const Tf<S> shape_in_mesh = ta.inverse(Eigen::Isometry) * ts;
+    const fcl::Matrix3<S> R = shape_in_mesh.linear();
+    const fcl::Vector3<S> T = shape_in_mesh.translation();
+    if (!overlap(R, T, models_[a]->getBV(0).bv, shape.bv, kDefaultOverlapTest, worldOffsets(ta, ts)))
+      return false;
     using Solver = fcl::detail::GJKSolver_libccd<S>;
     Solver solver;
     solver.collision_tolerance = request.gjk_tolerance;
     MeshShapeCollisionTraversalNodeRS<Shape, Solver> node;
     fcl::CollisionResult<S> result;
     initialize(node, *models_[a], ta, static_cast<const Shape&>(*shape.geometry), ts, &solver, request, result,
-               std::make_unique<ShapeBound<S, Shape>>(shape.bv, ta.inverse(Eigen::Isometry) * ts));
+               std::make_unique<ShapeBound<S, Shape>>(shape.bv, shape_in_mesh));
     collideMeshShape(node);
     return result.isCollision();
   }
@@ -298,6 +314,7 @@ struct SelfCollision<S>::Impl
     std::vector<Shape> shapes;
     fcl::Vector3<S> center = fcl::Vector3<S>::Zero();  ///< bounding sphere in the link frame
     S radius = 0;
+    RS<S> bound;  ///< every element in one RS volume, in the link frame (RS checks test it after the spheres)
   };
 
   /// A link's bounding sphere in the root frame, its radius grown by a rounding pad.
@@ -342,9 +359,34 @@ struct SelfCollision<S>::Impl
     return (p.spheres[a].centre - p.spheres[b].centre).squaredNorm() > reach * reach;
   }
 
+  /// Whether the links' RS volumes (Link::bound) may overlap at their poses.
+  bool boundsOverlap(const Placement& p, int a, int b) const
+  {
+    const Tf<S>& ta = p.poses[a];
+    const Tf<S>& tb = p.poses[b];
+    const fcl::Matrix3<S> R = ta.linear().transpose() * tb.linear();
+    const fcl::Vector3<S> T = ta.linear().transpose() * (tb.translation() - ta.translation());
+    return overlap(R, T, links[a].bound, links[b].bound, kDefaultOverlapTest, worldOffsets(ta, tb));
+  }
+
+  /// A lower bound on the distance between the links' RS volumes (Link::bound) at their poses.
+  S boundsDistance(const Placement& p, int a, int b) const
+  {
+    const Tf<S>& ta = p.poses[a];
+    const Tf<S>& tb = p.poses[b];
+    const fcl::Matrix3<S> R = ta.linear().transpose() * tb.linear();
+    const fcl::Vector3<S> T = ta.linear().transpose() * (tb.translation() - ta.translation());
+    // The relative pose carries the world frame's rounding: a few ulps of the poses' offsets.
+    return distance(R, T, links[a].bound, links[b].bound) -
+           8 * std::numeric_limits<S>::epsilon() * worldOffsets(ta, tb);
+  }
+
   bool collides(const Placement& placement, int a, int b, QueryStats* stats) const
   {
     if (spheresApart(placement, a, b)) return false;
+    // The spheres of links that are near each other overlap in most configurations; their RS volumes are far
+    // tighter and one test is cheaper than setting up the element queries it usually rules out.
+    if (bv == BVType::kRS && !boundsOverlap(placement, a, b)) return false;
     const Link& la = links[a];
     const Link& lb = links[b];
     const Tf<S>& ta = placement.poses[a];
@@ -373,12 +415,23 @@ struct SelfCollision<S>::Impl
     placeSpheres(placement);
     trees->setPoses(placement.poses);
     std::vector<LinkPair> colliding;
+    if (stop_at_first)
+    {
+      // Consecutive checks of a planner are near each other, so the pair that collided last often collides
+      // again: it goes first.
+      const int hint = last_hit.load(std::memory_order_relaxed);
+      if (hint >= 0 && collides(placement, pairs[hint].first, pairs[hint].second, stats))
+        return {pairs[hint]};
+      for (int i = 0; i < int(pairs.size()); ++i)
+        if (i != hint && collides(placement, pairs[i].first, pairs[i].second, stats))
+        {
+          last_hit.store(i, std::memory_order_relaxed);
+          return {pairs[i]};
+        }
+      return colliding;
+    }
     for (const LinkPair& p : pairs)
-      if (collides(placement, p.first, p.second, stats))
-      {
-        colliding.push_back(p);
-        if (stop_at_first) break;
-      }
+      if (collides(placement, p.first, p.second, stats)) colliding.push_back(p);
     return colliding;
   }
 
@@ -396,20 +449,36 @@ struct SelfCollision<S>::Impl
     for (const auto& x : ea)
       for (const auto& y : eb)
       {
+        // Started at the best distance so far, the traversal prunes every node pair that cannot beat it.
         fcl::DistanceResult<S> result;
+        result.min_distance = bound;
         bound = std::min(bound, fcl_rs::distance(x.first, x.second, y.first, y.second, request, result));
       }
     return bound;
   }
 
-  /// Minimum distance over the pair list of a collision-free configuration. Pairs whose spheres are farther
-  /// apart than the best distance so far cannot lower it; the pair order is fixed, so the result is too.
+  /// Minimum distance over the pair list of a collision-free configuration. The pairs go in order of their
+  /// spheres' gap, a lower bound on their distance: the nearest pairs set a small minimum early, and once a gap
+  /// reaches the minimum no later pair can lower it. The order depends on the configuration only, so the result
+  /// does too.
   S minimumDistance(const Placement& placement) const
   {
+    std::vector<std::pair<S, int>> order(pairs.size());
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+    {
+      const int a = pairs[i].first, b = pairs[i].second;
+      S gap = sphereGap(placement, a, b);
+      if (bv == BVType::kRS && gap < std::numeric_limits<S>::infinity())
+        gap = std::max(gap, boundsDistance(placement, a, b));  // tighter than the spheres
+      order[i] = {gap, int(i)};
+    }
+    std::sort(order.begin(), order.end());
     S best = std::numeric_limits<S>::infinity();
-    for (const LinkPair& p : pairs)
-      if (sphereGap(placement, p.first, p.second) < best)
-        best = linkDistance(placement.poses, p.first, p.second, best);
+    for (const auto& [gap, i] : order)
+    {
+      if (gap >= best) break;
+      best = linkDistance(placement.poses, pairs[i].first, pairs[i].second, best);
+    }
     return best;
   }
 
@@ -420,6 +489,9 @@ struct SelfCollision<S>::Impl
   std::vector<LinkPair> pairs;
   std::unique_ptr<MeshTrees<S>> trees;
   Placement placement;  ///< scratch of the non-const checks
+  /// The index in pairs of the pair a first-contact check found last, -1 before any: a hint only, so threads
+  /// sharing the checker may overwrite each other's (any value in range gives the same answers).
+  mutable std::atomic<int> last_hit{-1};
   fcl::CollisionRequest<S> request{/*num_max_contacts=*/1, /*enable_contact=*/false};
 };
 
@@ -459,6 +531,13 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       radius = std::max(radius, (p.origin.translation() - c).norm() + primitiveRadius(p));
     link.center = c.cast<S>();
     link.radius = S(radius * (1 + 1e-6));
+    if (link.has_mesh) link.bound = fitPoints(meshes[i].vertices.data(), int(meshes[i].vertices.size()));
+    for (std::size_t k = 0; k < link.shapes.size(); ++k)
+    {
+      const RS<S> placed = placeShapeRS(link.shapes[k].bv, link.shapes[k].origin);
+      if (link.has_mesh || k > 0) link.bound += placed;
+      else link.bound = placed;
+    }
   }
   impl_->trees = makeTrees<S>(bv, meshes);
 
@@ -552,14 +631,26 @@ bool SelfCollision<S>::inCollision(const fcl::VectorX<S>& q)
 template <typename S>
 SelfCheckResult<S> SelfCollision<S>::query(const fcl::VectorX<S>& q, const SelfCheckRequest& request) const
 {
+  std::vector<fcl::Transform3<S>> poses;
+  impl_->kinematics.linkPoses(q, poses);
+  return queryPoses(poses, request);
+}
+
+template <typename S>
+SelfCheckResult<S> SelfCollision<S>::queryPoses(const std::vector<fcl::Transform3<S>>& poses,
+                                                const SelfCheckRequest& request) const
+{
   if (impl_->bv == BVType::kKDOP18)
     throw std::invalid_argument("fcl_rs::SelfCollision::query: KDOP18 trees are refitted in place per check, so "
                                 "they cannot be shared; use check() or a BV type with local-frame trees");
   if (request.minimum_distance && impl_->bv == BVType::kOBB)
     throw std::invalid_argument("fcl_rs::SelfCollision::query: FCL has no distance query for OBB trees; "
                                 "use RS, OBBRSS or RSS for minimum distances");
+  if (poses.size() != impl_->links.size())
+    throw std::invalid_argument("fcl_rs::SelfCollision::queryPoses: " + std::to_string(poses.size()) +
+                                " poses for " + std::to_string(impl_->links.size()) + " links");
   typename Impl::Placement placement;
-  impl_->kinematics.linkPoses(q, placement.poses);
+  placement.poses = poses;
   SelfCheckResult<S> result;
   result.pairs = impl_->testPairs(placement, nullptr, /*stop_at_first=*/!request.colliding_pairs);
   result.colliding = !result.pairs.empty();
@@ -567,6 +658,35 @@ SelfCheckResult<S> SelfCollision<S>::query(const fcl::VectorX<S>& q, const SelfC
   if (request.minimum_distance)
     result.minimum_distance = result.colliding ? S(0) : impl_->minimumDistance(placement);
   return result;
+}
+
+template <typename S>
+std::vector<LinkElement<S>> SelfCollision<S>::linkElements(int link) const
+{
+  if (link < 0 || link >= int(impl_->links.size()))
+    throw std::invalid_argument("fcl_rs::SelfCollision::linkElements: link " + std::to_string(link) +
+                                " out of range [0, " + std::to_string(impl_->links.size()) + ")");
+  const typename Impl::Link& l = impl_->links[link];
+  std::vector<LinkElement<S>> elements;
+  if (l.has_mesh)
+  {
+    const fcl::CollisionGeometry<S>* model = impl_->trees->localModel(link);
+    if (!model)
+      throw std::invalid_argument("fcl_rs::SelfCollision::linkElements: KDOP18 trees live in the world frame; "
+                                  "use a BV type with local-frame trees");
+    elements.push_back({model, fcl::Transform3<S>::Identity()});
+  }
+  for (const typename Impl::Shape& s : l.shapes) elements.push_back({s.geometry.get(), s.origin});
+  return elements;
+}
+
+template <typename S>
+LinkSphere<S> SelfCollision<S>::linkSphere(int link) const
+{
+  if (link < 0 || link >= int(impl_->links.size()))
+    throw std::invalid_argument("fcl_rs::SelfCollision::linkSphere: link " + std::to_string(link) +
+                                " out of range [0, " + std::to_string(impl_->links.size()) + ")");
+  return {impl_->links[link].center, impl_->links[link].radius};
 }
 
 template class SelfCollision<float>;

@@ -1,0 +1,395 @@
+// OMPL's RRTConnect planning with fcl_rs: the Environment as OMPL's state validity checker and its exact motion
+// check as OMPL's motion validator.
+//
+//   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf                 one seeded query on a table-and-shelf scene, with the
+//                                                            path re-checked segment by segment
+//   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf --benchmark N   N seeded queries per BV type and motion validator,
+//                                                            each BV type in its own process (same OMPL seed), the
+//                                                            searches asserted identical, times compared
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <ctime>
+#include <iostream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <ompl/base/DiscreteMotionValidator.h>
+#include <ompl/base/MotionValidator.h>
+#include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/SpaceInformation.h>
+#include <ompl/base/StateValidityChecker.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/geometric/PathGeometric.h>
+#include <ompl/geometric/planners/rrt/RRTConnect.h>
+#include <ompl/util/Console.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include "fcl_rs/mesh/shapes.h"
+#include "fcl_rs/robot.h"
+
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+using fcl_rs::Environment;
+
+namespace {
+
+double threadSeconds()
+{
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+Eigen::VectorXd toVector(const ob::State* state, int dof)
+{
+  const double* v = state->as<ob::RealVectorStateSpace::StateType>()->values;
+  return Eigen::Map<const Eigen::VectorXd>(v, dof);
+}
+
+/// Time and number of calls of one kind of check.
+struct Tally
+{
+  long calls = 0;
+  double seconds = 0;
+};
+
+/// A state is valid when the robot touches neither itself nor an obstacle.
+class ValidityChecker : public ob::StateValidityChecker
+{
+public:
+  ValidityChecker(const ob::SpaceInformationPtr& si, const Environment<double>& env, Tally& tally)
+    : ob::StateValidityChecker(si), env_(env), dof_(env.kinematics().numVariables()), tally_(tally)
+  {
+  }
+  bool isValid(const ob::State* state) const override
+  {
+    const double start = threadSeconds();
+    const bool valid = !env_.query(toVector(state, dof_)).colliding;
+    tally_.seconds += threadSeconds() - start;
+    ++tally_.calls;
+    return valid;
+  }
+
+private:
+  const Environment<double>& env_;
+  int dof_;
+  Tally& tally_;
+};
+
+/// Every configuration of the straight segment is checked (Environment::checkMotion), not samples of it.
+class ExactMotionValidator : public ob::MotionValidator
+{
+public:
+  ExactMotionValidator(const ob::SpaceInformationPtr& si, const Environment<double>& env)
+    : ob::MotionValidator(si), env_(env), dof_(env.kinematics().numVariables())
+  {
+  }
+  bool checkMotion(const ob::State* s1, const ob::State* s2) const override
+  {
+    fcl_rs::MotionRequest<double> request;
+    request.earliest = false;  // a yes-or-no question: stop at any colliding configuration
+    return record(env_.checkMotion(toVector(s1, dof_), toVector(s2, dof_), request)).colliding == false;
+  }
+  bool checkMotion(const ob::State* s1, const ob::State* s2, std::pair<ob::State*, double>& last_valid) const override
+  {
+    const fcl_rs::MotionResult<double> r = record(env_.checkMotion(toVector(s1, dof_), toVector(s2, dof_)));
+    if (r.colliding)
+    {
+      last_valid.second = r.free_until;
+      if (last_valid.first) si_->getStateSpace()->interpolate(s1, s2, r.free_until, last_valid.first);
+    }
+    return !r.colliding;
+  }
+
+private:
+  const fcl_rs::MotionResult<double>& record(const fcl_rs::MotionResult<double>& r) const
+  {
+    (r.colliding ? invalid_ : valid_)++;
+    return r;
+  }
+  const Environment<double>& env_;
+  int dof_;
+};
+
+/// Times any motion validator (OMPL's discrete one included: its state checks count in both tallies).
+class TimedMotionValidator : public ob::MotionValidator
+{
+public:
+  TimedMotionValidator(const ob::SpaceInformationPtr& si, std::shared_ptr<ob::MotionValidator> inner, Tally& tally)
+    : ob::MotionValidator(si), inner_(std::move(inner)), tally_(tally)
+  {
+  }
+  bool checkMotion(const ob::State* s1, const ob::State* s2) const override
+  {
+    return timed([&] { return inner_->checkMotion(s1, s2); });
+  }
+  bool checkMotion(const ob::State* s1, const ob::State* s2, std::pair<ob::State*, double>& last_valid) const override
+  {
+    return timed([&] { return inner_->checkMotion(s1, s2, last_valid); });
+  }
+
+private:
+  template <typename F>
+  bool timed(F f) const
+  {
+    const double start = threadSeconds();
+    const bool valid = f();
+    tally_.seconds += threadSeconds() - start;
+    ++tally_.calls;
+    (valid ? valid_ : invalid_)++;
+    return valid;
+  }
+  std::shared_ptr<ob::MotionValidator> inner_;
+  Tally& tally_;
+};
+
+/// A table under the robot, a shelf of two boards on two sides in front of it, and two mesh obstacles, scaled
+/// to the robot's reach.
+void addScene(Environment<double>& env, double reach)
+{
+  const auto at = [](double x, double y, double z) {
+    fcl::Transform3d tf = fcl::Transform3d::Identity();
+    tf.translation() = fcl::Vector3d(x, y, z);
+    return tf;
+  };
+  const double r = reach;
+  env.addShape("table", std::make_shared<fcl::Boxd>(3 * r, 3 * r, 0.04), at(0, 0, -0.03));
+  env.addShape("shelf_low", std::make_shared<fcl::Boxd>(0.35 * r, 0.9 * r, 0.02), at(0.75 * r, 0, 0.35 * r));
+  env.addShape("shelf_high", std::make_shared<fcl::Boxd>(0.35 * r, 0.9 * r, 0.02), at(0.75 * r, 0, 0.8 * r));
+  env.addShape("shelf_left", std::make_shared<fcl::Boxd>(0.35 * r, 0.02, 0.9 * r), at(0.75 * r, 0.45 * r, 0.45 * r));
+  env.addShape("shelf_right", std::make_shared<fcl::Boxd>(0.35 * r, 0.02, 0.9 * r), at(0.75 * r, -0.45 * r, 0.45 * r));
+  env.addShape("post", std::make_shared<fcl::Cylinderd>(0.03, 1.2 * r), at(-0.4 * r, 0.5 * r, 0.6 * r));
+  env.addMesh("ball", fcl_rs::makeSphere<double>(0.1 * r, 12, 24), at(0.1 * r, -0.6 * r, 0.5 * r));
+  env.addMesh("ring", fcl_rs::makeTorus<double>(0.15 * r, 0.03 * r, 24, 12), at(-0.5 * r, -0.4 * r, 0.4 * r));
+}
+
+/// How far the robot reaches: the largest distance of a link's geometry from the root at the zero configuration
+/// plus the joint offsets (an estimate, for scaling the scene only).
+double reachOf(const fcl_rs::RobotModel& robot)
+{
+  double reach = 0;
+  for (const fcl_rs::RobotJoint& j : robot.joints) reach += j.origin.translation().norm();
+  return std::min(reach, 1.2);
+}
+
+struct QueryStats
+{
+  bool solved = false;
+  long state_checks = 0, motion_checks = 0;
+  double plan_seconds = 0, state_seconds = 0, motion_seconds = 0;
+  std::size_t path_states = 0;
+  double path_length = 0;
+  std::string path_digest;  ///< the path's states printed in full precision, hashed
+};
+
+/// Plans one seeded query (start and goal drawn free from `seed`) with a budget of state checks.
+QueryStats plan(const Environment<double>& env, bool exact_motions, std::uint64_t seed, long budget,
+                og::PathGeometric* path_out = nullptr)
+{
+  const fcl_rs::Kinematics<double>& kin = env.kinematics();
+  const int dof = kin.numVariables();
+  auto space = std::make_shared<ob::RealVectorStateSpace>(dof);
+  ob::RealVectorBounds bounds(dof);
+  for (int i = 0; i < dof; ++i)
+  {
+    bounds.setLow(i, kin.lower()[i]);
+    bounds.setHigh(i, kin.upper()[i]);
+  }
+  space->setBounds(bounds);
+  auto si = std::make_shared<ob::SpaceInformation>(space);
+  Tally states, motions;
+  si->setStateValidityChecker(std::make_shared<ValidityChecker>(si, env, states));
+  std::shared_ptr<ob::MotionValidator> inner;
+  if (exact_motions)
+    inner = std::make_shared<ExactMotionValidator>(si, env);
+  else
+    inner = std::make_shared<ob::DiscreteMotionValidator>(si);
+  si->setMotionValidator(std::make_shared<TimedMotionValidator>(si, inner, motions));
+  si->setup();
+
+  std::mt19937_64 rng(seed);
+  const auto freeConfiguration = [&] {
+    for (;;)
+    {
+      const Eigen::VectorXd q = kin.randomConfiguration(rng);
+      if (!env.query(q).colliding) return q;
+    }
+  };
+  const Eigen::VectorXd start = freeConfiguration(), goal = freeConfiguration();
+  ob::ScopedState<> s(space), g(space);
+  for (int i = 0; i < dof; ++i) s[i] = start[i], g[i] = goal[i];
+  auto pdef = std::make_shared<ob::ProblemDefinition>(si);
+  pdef->setStartAndGoalStates(s, g);
+  og::RRTConnect planner(si);
+  planner.setProblemDefinition(pdef);
+  planner.setup();
+  states = Tally();  // the start and goal draws are not the planner's
+  const double t0 = threadSeconds();
+  const ob::PlannerStatus status = planner.solve(ob::PlannerTerminationCondition([&] { return states.calls >= budget; }));
+  QueryStats q;
+  q.plan_seconds = threadSeconds() - t0;
+  q.solved = status == ob::PlannerStatus::EXACT_SOLUTION;
+  q.state_checks = states.calls;
+  q.motion_checks = motions.calls;
+  q.state_seconds = states.seconds;
+  q.motion_seconds = motions.seconds;
+  if (q.solved)
+  {
+    auto& path = *pdef->getSolutionPath()->as<og::PathGeometric>();
+    q.path_states = path.getStateCount();
+    q.path_length = path.length();
+    std::ostringstream digest;
+    digest.precision(17);
+    for (std::size_t i = 0; i < path.getStateCount(); ++i)
+      for (int d = 0; d < dof; ++d) digest << path.getState(i)->as<ob::RealVectorStateSpace::StateType>()->values[d] << ' ';
+    q.path_digest = std::to_string(std::hash<std::string>()(digest.str()));
+    if (path_out) *path_out = path;
+  }
+  return q;
+}
+
+/// The benchmark line of one BV type and validator (one process: OMPL's seed is global and set once).
+std::string benchmarkRun(const std::string& urdf, const std::string& srdf, fcl_rs::BVType bv, bool exact, int queries,
+                         long budget)
+{
+  ompl::RNG::setSeed(20261126);
+  const fcl_rs::RobotModel robot = fcl_rs::loadUrdf(urdf);
+  Environment<double> env(robot, bv, fcl_rs::loadDisabledCollisions(srdf, robot));
+  addScene(env, reachOf(robot));
+  std::ostringstream out;
+  out.precision(9);
+  for (int i = 0; i < queries; ++i)
+  {
+    const QueryStats q = plan(env, exact, 1000 + std::uint64_t(i), budget);
+    out << i << ' ' << q.solved << ' ' << q.state_checks << ' ' << q.motion_checks << ' ' << q.path_states << ' '
+        << (q.path_digest.empty() ? "-" : q.path_digest) << ' ' << q.plan_seconds << ' ' << q.state_seconds << ' '
+        << q.motion_seconds << '\n';
+  }
+  return out.str();
+}
+
+/// Runs benchmarkRun in a child process and returns its output.
+std::string inChild(const std::function<std::string()>& run)
+{
+  int fd[2];
+  if (pipe(fd) != 0) throw std::runtime_error("pipe failed");
+  const pid_t pid = fork();
+  if (pid == 0)
+  {
+    close(fd[0]);
+    const std::string text = run();
+    const ssize_t written = write(fd[1], text.data(), text.size());
+    _exit(written == ssize_t(text.size()) ? 0 : 1);
+  }
+  close(fd[1]);
+  std::string text;
+  char buffer[4096];
+  for (ssize_t n; (n = read(fd[0], buffer, sizeof buffer)) > 0;) text.append(buffer, std::size_t(n));
+  close(fd[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) throw std::runtime_error("benchmark child failed");
+  return text;
+}
+
+struct Row
+{
+  std::string search;  ///< solved, checks, path per query: must be equal across BV types
+  double plan = 0, state = 0, motion = 0;
+  long states = 0, motions = 0, solved = 0;
+};
+
+Row parse(const std::string& text)
+{
+  Row row;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+  {
+    std::istringstream l(line);
+    int index, solved;
+    long states, motions;
+    std::size_t path_states;
+    std::string digest;
+    double plan, state, motion;
+    l >> index >> solved >> states >> motions >> path_states >> digest >> plan >> state >> motion;
+    row.search += std::to_string(solved) + ' ' + std::to_string(states) + ' ' + std::to_string(motions) + ' ' + digest + '\n';
+    row.plan += plan, row.state += state, row.motion += motion;
+    row.states += states, row.motions += motions, row.solved += solved;
+  }
+  return row;
+}
+
+int benchmark(const std::string& urdf, const std::string& srdf, int queries, long budget)
+{
+  ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+  bool identical = true;
+  for (bool exact : {false, true})
+  {
+    std::cout << (exact ? "fcl_rs exact motion validator" : "OMPL discrete motion validator (default resolution)")
+              << ", " << queries << " RRTConnect queries, budget " << budget << " state checks each\n";
+    std::cout << "  BV      solved  state checks  motion checks  plan s   state us  motion us  plan / RS\n";
+    std::string reference;
+    double rs_plan = 0;
+    for (fcl_rs::BVType bv : fcl_rs::kRobotBVTypes)
+    {
+      if (bv == fcl_rs::BVType::kKDOP18) continue;  // not shareable (refitted in place)
+      if (exact && bv == fcl_rs::BVType::kOBB) continue;  // FCL has no OBB distance
+      const Row row = parse(inChild([&] { return benchmarkRun(urdf, srdf, bv, exact, queries, budget); }));
+      if (bv == fcl_rs::BVType::kRS)
+      {
+        reference = row.search;
+        rs_plan = row.plan;
+      }
+      const bool same = row.search == reference;
+      identical = identical && same;
+      std::printf("  %-7s %6ld  %12ld  %13ld  %7.3f  %8.2f  %9.2f  %9.3f%s\n", fcl_rs::bvTypeName(bv), row.solved,
+                  row.states, row.motions, row.plan, 1e6 * row.state / double(std::max(1L, row.states)),
+                  1e6 * row.motion / double(std::max(1L, row.motions)), row.plan / rs_plan,
+                  same ? "" : "  SEARCH DIFFERS FROM RS");
+    }
+  }
+  std::cout << (identical ? "every BV type explored identical trees\n" : "SEARCHES DIFFER\n");
+  return identical ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  if (argc < 3)
+  {
+    std::cerr << "usage: " << argv[0] << " ROBOT.urdf ROBOT.srdf [--benchmark QUERIES [BUDGET]]\n";
+    return 2;
+  }
+  const std::string urdf = argv[1], srdf = argv[2];
+  if (argc >= 5 && std::strcmp(argv[3], "--benchmark") == 0)
+    return benchmark(urdf, srdf, std::stoi(argv[4]), argc >= 6 ? std::stol(argv[5]) : 100000);
+
+  ompl::RNG::setSeed(7);
+  ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+  const fcl_rs::RobotModel robot = fcl_rs::loadUrdf(urdf);
+  Environment<double> env(robot, fcl_rs::BVType::kRS, fcl_rs::loadDisabledCollisions(srdf, robot));
+  addScene(env, reachOf(robot));
+  og::PathGeometric path(nullptr);
+  const QueryStats q = plan(env, /*exact_motions=*/true, 1000, 100000, &path);
+  std::cout << robot.name << ": " << (q.solved ? "solved" : "not solved") << " with " << q.state_checks
+            << " state checks and " << q.motion_checks << " motion checks; path of " << q.path_states << " states\n";
+  if (!q.solved) return 1;
+  // Every segment of the path is free, for every configuration on it (a second, independent check).
+  const int dof = env.kinematics().numVariables();
+  std::vector<Eigen::VectorXd> waypoints;
+  for (std::size_t i = 0; i < path.getStateCount(); ++i) waypoints.push_back(toVector(path.getState(i), dof));
+  const fcl_rs::MotionResult<double> whole = env.checkPath(waypoints);
+  std::cout << "path re-checked: " << (whole.colliding ? "COLLIDES" : "free") << "\n";
+  return whole.colliding ? 1 : 0;
+}

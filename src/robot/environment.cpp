@@ -1,0 +1,727 @@
+// Environment: a SelfCollision checker, named obstacles with bounding spheres, per-configuration queries and
+// adaptive motion checks (Schwarzer, Saha and Latombe).
+#include "fcl_rs/robot/environment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+
+#include <fcl/math/bv/AABB.h>
+#include <fcl/math/bv/OBB.h>
+#include <fcl/math/bv/OBBRSS.h>
+#include <fcl/math/bv/RSS.h>
+
+#include "fcl_rs/bvh/build_model.h"
+#include "fcl_rs/collide.h"
+#include "fcl_rs/distance.h"
+
+namespace fcl_rs {
+
+namespace {
+
+template <typename S>
+using Tf = fcl::Transform3<S>;
+
+/// Throws std::invalid_argument unless tf is finite and its linear part a rotation (to float's rounding).
+template <typename S>
+void validatePose(const Tf<S>& tf, const std::string& what)
+{
+  const bool finite = tf.matrix().allFinite();
+  const fcl::Matrix3<S> r = tf.linear();
+  const S tolerance = std::is_same<S, float>::value ? S(1e-4) : S(1e-9);
+  if (!finite || !(r.transpose() * r).isApprox(fcl::Matrix3<S>::Identity(), tolerance) || r.determinant() <= 0)
+    throw std::invalid_argument("fcl_rs::Environment: " + what + " is not a finite rigid transform");
+}
+
+template <typename S>
+void validateConfiguration(const fcl::VectorX<S>& q, int dof, const char* what)
+{
+  if (q.size() != dof)
+    throw std::invalid_argument(std::string("fcl_rs::Environment: ") + what + " has " + std::to_string(q.size()) +
+                                " values, the robot has " + std::to_string(dof) + " joint variables");
+  if (!q.allFinite()) throw std::invalid_argument(std::string("fcl_rs::Environment: ") + what + " has a non-finite value");
+}
+
+/// A body's elements in its own frame and a ball about them (the link's, or an obstacle's AABB ball).
+template <typename S>
+struct Body
+{
+  std::vector<LinkElement<S>> elements;
+  fcl::Vector3<S> center = fcl::Vector3<S>::Zero();
+  S radius = 0;
+};
+
+/// A body's ball placed in the root frame, its radius grown by a rounding pad (as SelfCollision's spheres: 1e-5
+/// of the radius and of the centre's distance from the root), so that the gap between two never exceeds the
+/// gap between their geometries.
+template <typename S>
+struct WorldSphere
+{
+  fcl::Vector3<S> centre = fcl::Vector3<S>::Zero();
+  S reach = 0;
+};
+
+template <typename S>
+WorldSphere<S> place(const Body<S>& body, const Tf<S>& pose)
+{
+  const fcl::Vector3<S> centre = pose * body.center;
+  return {centre, body.radius + S(1e-5) * (body.radius + centre.norm())};
+}
+
+template <typename S>
+S sphereGap(const WorldSphere<S>& a, const WorldSphere<S>& b)
+{
+  return (a.centre - b.centre).norm() - a.reach - b.reach;
+}
+
+template <typename S>
+bool spheresApart(const WorldSphere<S>& a, const WorldSphere<S>& b)
+{
+  const S reach = a.reach + b.reach;
+  return (a.centre - b.centre).squaredNorm() > reach * reach;
+}
+
+/// Whether any element of a touches any element of b (FCL's and fcl_rs's exact tests, first contact).
+template <typename S>
+bool bodiesCollide(const Body<S>& a, const Tf<S>& ta, const Body<S>& b, const Tf<S>& tb)
+{
+  const fcl::CollisionRequest<S> request(/*num_max_contacts=*/1, /*enable_contact=*/false);
+  for (const LinkElement<S>& ea : a.elements)
+    for (const LinkElement<S>& eb : b.elements)
+    {
+      fcl::CollisionResult<S> result;
+      if (fcl_rs::collide(ea.geometry, Tf<S>(ta * ea.origin), eb.geometry, Tf<S>(tb * eb.origin), request, result))
+        return true;
+    }
+  return false;
+}
+
+/// The smallest element distance between a and b when below `bound` (else `bound`), with the nearest points
+/// (a's first, root frame) when `points` is given. Colliding elements give 0. With rel_err > 0 the result may
+/// exceed the distance by that factor (fcl_rs::distance's contract): divide by 1 + rel_err for a lower bound.
+template <typename S>
+S bodiesDistance(const Body<S>& a, const Tf<S>& ta, const Body<S>& b, const Tf<S>& tb, S bound,
+                 fcl::Vector3<S>* points, S rel_err = 0)
+{
+  fcl::DistanceRequest<S> request;
+  request.enable_nearest_points = points != nullptr;
+  request.rel_err = rel_err;
+  for (const LinkElement<S>& ea : a.elements)
+    for (const LinkElement<S>& eb : b.elements)
+    {
+      fcl::DistanceResult<S> result;
+      const S d = std::max(S(0), fcl_rs::distance(ea.geometry, Tf<S>(ta * ea.origin), eb.geometry,
+                                                  Tf<S>(tb * eb.origin), request, result));
+      if (d >= bound) continue;
+      bound = d;
+      if (points)
+      {
+        // A shape given before a mesh is swapped behind it (fcl_rs::distance, as FCL).
+        const bool swapped = ea.geometry->getObjectType() == fcl::OT_GEOM &&
+                             eb.geometry->getObjectType() == fcl::OT_BVH;
+        points[0] = result.nearest_points[swapped ? 1 : 0];
+        points[1] = result.nearest_points[swapped ? 0 : 1];
+      }
+      if (bound <= 0) return 0;
+    }
+  return bound;
+}
+
+template <typename BV>
+std::shared_ptr<fcl::CollisionGeometry<typename BV::S>> buildTree(const TriangleMesh<typename BV::S>& mesh)
+{
+  return buildModel<BV>(mesh);
+}
+
+template <typename S>
+std::shared_ptr<fcl::CollisionGeometry<S>> buildTree(BVType bv, const TriangleMesh<S>& mesh)
+{
+  switch (bv)
+  {
+    case BVType::kRS: return buildTree<RS<S>>(mesh);
+    case BVType::kOBBRSS: return buildTree<fcl::OBBRSS<S>>(mesh);
+    case BVType::kOBB: return buildTree<fcl::OBB<S>>(mesh);
+    case BVType::kRSS: return buildTree<fcl::RSS<S>>(mesh);
+    case BVType::kKDOP18: break;
+  }
+  throw std::invalid_argument("fcl_rs::Environment: KDOP18 trees are refitted in place per check; use RS, OBBRSS, "
+                              "OBB or RSS");
+}
+
+}  // namespace
+
+/// The relative error motion checks allow their distances: a lower bound within this factor of the distance
+/// certifies nearly as much and prunes far more of the trees.
+constexpr double kMotionDistanceError = 0.25;
+
+template <typename S>
+struct Environment<S>::Impl
+{
+  struct Obstacle
+  {
+    std::string name;
+    std::shared_ptr<fcl::CollisionGeometry<S>> geometry;
+    Body<S> body;
+    Tf<S> pose;
+    WorldSphere<S> sphere;  ///< at pose
+    fcl::AABB<S> box;       ///< the geometry's box in its own frame (tighter than the ball for slabs such as tables)
+  };
+
+  /// A pair a motion check certifies: a self pair (other_link >= 0) or a link and an obstacle.
+  struct MotionPair
+  {
+    int link, other_link, obstacle;
+  };
+
+  /// One configuration along a motion: poses, link spheres and, per pair, a distance lower bound (NaN until
+  /// computed), whether that bound is the exact distance, and whether some pair collides there.
+  struct Sample
+  {
+    S t;
+    std::vector<Tf<S>> poses;
+    std::vector<WorldSphere<S>> spheres;
+    std::vector<S> bound;
+    std::vector<std::uint8_t> exact;
+    bool colliding = false;
+  };
+
+  Impl(const RobotModel& robot, BVType bv_type, const std::vector<DisabledCollision>& disabled)
+    : bv(bv_type), self(robot, bv_type, disabled)
+  {
+    if (bv == BVType::kKDOP18)
+      throw std::invalid_argument("fcl_rs::Environment: KDOP18 trees are refitted in place per check, so they cannot "
+                                  "be shared; use RS, OBBRSS, OBB or RSS");
+    const int n = int(robot.links.size());
+    links.resize(n);
+    for (int i = 0; i < n; ++i)
+    {
+      links[i].elements = self.linkElements(i);
+      const LinkSphere<S> s = self.linkSphere(i);
+      links[i].center = s.center;
+      links[i].radius = s.radius;
+      if (!links[i].elements.empty()) geometric_links.push_back(i);
+    }
+    computeLevers(robot);
+  }
+
+  /// levers[link][joint]: how far any point of the link can move per unit of the joint's value, for every joint
+  /// upstream of the link (0 elsewhere): for a revolute joint, a bound on the distance of the link's geometry
+  /// from the joint's axis over every configuration (the joint origins' offsets down the chain, prismatic
+  /// travel included, plus the link's ball about its origin); 1 for a prismatic joint. Times |multiplier|
+  /// for a mimic joint. Computed in double and rounded up by a relative 1e-6.
+  void computeLevers(const RobotModel& robot)
+  {
+    const int n = int(robot.links.size()), nj = int(robot.joints.size());
+    const Kinematics<S>& kin = self.kinematics();
+    levers.assign(n, std::vector<double>(nj, 0.0));
+    joint_variable.assign(nj, -1);
+    for (int j = 0; j < nj; ++j)
+    {
+      const RobotJoint& joint = robot.joints[j];
+      joint_variable[j] = joint.variable >= 0 ? joint.variable : joint.mimic_variable;
+    }
+    // Largest |value| a prismatic joint takes, over its variable's limits.
+    const auto travel = [&](int j) {
+      const RobotJoint& joint = robot.joints[j];
+      if (joint.type != JointType::kPrismatic || joint_variable[j] < 0) return 0.0;
+      const double lo = double(kin.lower()[joint_variable[j]]), hi = double(kin.upper()[joint_variable[j]]);
+      return std::max(std::abs(joint.multiplier * lo + joint.offset), std::abs(joint.multiplier * hi + joint.offset));
+    };
+    for (int link : geometric_links)
+    {
+      double arm = links[link].center.template cast<double>().norm() + double(links[link].radius);
+      for (int j = robot.links[link].parent_joint; j >= 0; j = robot.links[robot.joints[j].parent_link].parent_joint)
+      {
+        const RobotJoint& joint = robot.joints[j];
+        if (joint_variable[j] >= 0)
+        {
+          const double per_unit = joint.type == JointType::kPrismatic ? 1.0 : arm;
+          levers[link][j] = std::abs(joint.multiplier) * per_unit * (1 + 1e-6);
+        }
+        // The joint's own origin offset and travel lie between the parent's origin and the link.
+        arm += joint.origin.translation().norm() + travel(j);
+      }
+      max_arm = std::max(max_arm, arm);
+    }
+    // The self pairs: joints upstream of both links move them together and cannot change their distance.
+    for (const LinkPair& p : self.pairs())
+    {
+      std::vector<double> w(kin.numVariables(), 0.0);
+      for (int j = 0; j < nj; ++j)
+      {
+        const double a = levers[p.first][j], b = levers[p.second][j];
+        if (joint_variable[j] < 0 || (a > 0 && b > 0)) continue;
+        w[joint_variable[j]] += a + b;
+      }
+      self_weights.push_back(std::move(w));
+    }
+    for (int link = 0; link < n; ++link)
+    {
+      std::vector<double> w(kin.numVariables(), 0.0);
+      for (int j = 0; j < nj; ++j)
+        if (joint_variable[j] >= 0) w[joint_variable[j]] += levers[link][j];
+      link_weights.push_back(std::move(w));
+    }
+  }
+
+  int find(const std::string& name) const
+  {
+    for (std::size_t i = 0; i < obstacles.size(); ++i)
+      if (obstacles[i].name == name) return int(i);
+    return -1;
+  }
+
+  int require(const std::string& name, const char* caller) const
+  {
+    const int i = find(name);
+    if (i < 0) throw std::invalid_argument(std::string("fcl_rs::Environment::") + caller + ": no obstacle named '" + name + "'");
+    return i;
+  }
+
+  void add(const std::string& name, std::shared_ptr<fcl::CollisionGeometry<S>> geometry, const Tf<S>& pose)
+  {
+    geometry->computeLocalAABB();
+    Obstacle o;
+    o.name = name;
+    o.geometry = std::move(geometry);
+    o.body.elements.push_back({o.geometry.get(), Tf<S>::Identity()});
+    o.body.center = o.geometry->aabb_center;
+    o.body.radius = o.geometry->aabb_radius * S(1 + 1e-6);
+    o.box = o.geometry->aabb_local;
+    o.pose = pose;
+    o.sphere = place(o.body, pose);
+    obstacles.push_back(std::move(o));
+  }
+
+  void checkNewName(const std::string& name) const
+  {
+    if (name.empty()) throw std::invalid_argument("fcl_rs::Environment: an obstacle name is empty");
+    if (find(name) >= 0) throw std::invalid_argument("fcl_rs::Environment: an obstacle named '" + name + "' exists");
+  }
+
+  std::vector<WorldSphere<S>> placeLinks(const std::vector<Tf<S>>& poses) const
+  {
+    std::vector<WorldSphere<S>> spheres(links.size());
+    for (int link : geometric_links) spheres[link] = place(links[link], poses[link]);
+    return spheres;
+  }
+
+  /// The obstacles whose balls meet the box around every link ball (the robot's broad phase: one test per
+  /// obstacle, so hundreds of far obstacles cost little).
+  std::vector<int> nearObstacles(const std::vector<WorldSphere<S>>& spheres) const
+  {
+    fcl::Vector3<S> lo = fcl::Vector3<S>::Constant(std::numeric_limits<S>::infinity()), hi = -lo;
+    for (int link : geometric_links)
+    {
+      lo = lo.cwiseMin(spheres[link].centre - fcl::Vector3<S>::Constant(spheres[link].reach));
+      hi = hi.cwiseMax(spheres[link].centre + fcl::Vector3<S>::Constant(spheres[link].reach));
+    }
+    std::vector<int> near;
+    for (std::size_t i = 0; i < obstacles.size(); ++i)
+    {
+      const WorldSphere<S>& s = obstacles[i].sphere;
+      const fcl::Vector3<S> outside = (lo - s.centre).cwiseMax(s.centre - hi).cwiseMax(S(0));
+      if (outside.squaredNorm() <= s.reach * s.reach) near.push_back(int(i));
+    }
+    return near;
+  }
+
+  BodyPair selfPair(const LinkPair& p) const
+  {
+    return {self.linkNames()[p.first], self.linkNames()[p.second], true};
+  }
+  BodyPair obstaclePair(int link, int obstacle) const
+  {
+    return {self.linkNames()[link], obstacles[obstacle].name, false};
+  }
+
+  EnvironmentResult<S> query(const fcl::VectorX<S>& q, const EnvironmentRequest& request) const
+  {
+    validateConfiguration(q, self.kinematics().numVariables(), "configuration");
+    if (request.minimum_distance && bv == BVType::kOBB)
+      throw std::invalid_argument("fcl_rs::Environment::query: FCL has no distance query for OBB trees; use RS, "
+                                  "OBBRSS or RSS for minimum distances");
+    std::vector<Tf<S>> poses;
+    self.kinematics().linkPoses(q, poses);
+    EnvironmentResult<S> result;
+    SelfCheckRequest self_request;
+    self_request.colliding_pairs = request.colliding_pairs;
+    const SelfCheckResult<S> self_result = self.queryPoses(poses, self_request);
+    result.colliding = self_result.colliding;
+    for (const LinkPair& p : self_result.pairs) result.pairs.push_back(selfPair(p));
+    const bool stop_at_first = !request.colliding_pairs;
+    if (result.colliding && stop_at_first && !request.minimum_distance) return result;
+
+    const std::vector<WorldSphere<S>> spheres = placeLinks(poses);
+    const std::vector<int> near = nearObstacles(spheres);
+    if (!(result.colliding && stop_at_first))
+      for (int link : geometric_links)
+      {
+        for (int o : near)
+          if (!spheresApart(spheres[link], obstacles[o].sphere) &&
+              bodiesCollide(links[link], poses[link], obstacles[o].body, obstacles[o].pose))
+          {
+            result.colliding = true;
+            if (stop_at_first) break;
+            result.pairs.push_back(obstaclePair(link, o));
+          }
+        if (result.colliding && stop_at_first) break;
+      }
+    if (request.minimum_distance && !result.colliding) minimumDistance(poses, spheres, result);
+    return result;
+  }
+
+  /// The smallest distance over the self pairs and link x obstacle pairs; a pair whose balls are farther apart
+  /// than the best so far cannot lower it (fixed order, so the result is deterministic).
+  void minimumDistance(const std::vector<Tf<S>>& poses, const std::vector<WorldSphere<S>>& spheres,
+                       EnvironmentResult<S>& result) const
+  {
+    S best = std::numeric_limits<S>::infinity();
+    fcl::Vector3<S> points[2];
+    const auto consider = [&](const Body<S>& a, const Tf<S>& ta, const Body<S>& b, const Tf<S>& tb, S gap,
+                              const BodyPair& pair) {
+      if (gap >= best) return;
+      const S d = bodiesDistance(a, ta, b, tb, best, points);
+      if (d >= best) return;
+      best = d;
+      result.nearest_pair = pair;
+      result.nearest_points[0] = points[0];
+      result.nearest_points[1] = points[1];
+    };
+    for (const LinkPair& p : self.pairs())
+      consider(links[p.first], poses[p.first], links[p.second], poses[p.second],
+               sphereGap(spheres[p.first], spheres[p.second]), selfPair(p));
+    for (int link : geometric_links)
+      for (std::size_t o = 0; o < obstacles.size(); ++o)
+        consider(links[link], poses[link], obstacles[o].body, obstacles[o].pose,
+                 sphereGap(spheres[link], obstacles[o].sphere), obstaclePair(link, int(o)));
+    result.minimum_distance = best;
+  }
+
+  // ---- motion checks ----
+
+  std::vector<MotionPair> motionPairs() const
+  {
+    std::vector<MotionPair> pairs;
+    for (const LinkPair& p : self.pairs()) pairs.push_back({p.first, p.second, -1});
+    for (int link : geometric_links)
+      for (std::size_t o = 0; o < obstacles.size(); ++o) pairs.push_back({link, -1, int(o)});
+    return pairs;
+  }
+
+  Sample sampleAt(const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, S t, std::size_t num_pairs) const
+  {
+    Sample s;
+    s.t = t;
+    const fcl::VectorX<S> q = from + t * (to - from);
+    self.kinematics().linkPoses(q, s.poses);
+    s.spheres = placeLinks(s.poses);
+    s.bound.assign(num_pairs, std::numeric_limits<S>::quiet_NaN());
+    s.exact.assign(num_pairs, 0);
+    return s;
+  }
+
+  /// A lower bound on the pair's distance: the balls' gap, or for an obstacle the gap between the link's ball and
+  /// the obstacle's own box (the ball's centre moved into the obstacle's frame), whichever is larger.
+  S gap(const Sample& s, const MotionPair& p) const
+  {
+    const WorldSphere<S>& ball = s.spheres[p.link];
+    if (p.other_link >= 0) return std::max(S(0), sphereGap(ball, s.spheres[p.other_link]));
+    const Obstacle& o = obstacles[p.obstacle];
+    const fcl::Vector3<S> c = o.pose.inverse(Eigen::Isometry) * ball.centre;
+    const fcl::Vector3<S> outside = (o.box.min_ - c).cwiseMax(c - o.box.max_).cwiseMax(S(0));
+    const S box_gap = outside.norm() - ball.reach * S(1 + 1e-5);
+    return std::max({S(0), sphereGap(ball, o.sphere), box_gap});
+  }
+
+  /// The pair's lower bound at s: the balls' gap until the exact distance is asked for.
+  S bound(Sample& s, const std::vector<MotionPair>& pairs, int i) const
+  {
+    if (std::isnan(s.bound[i])) s.bound[i] = gap(s, pairs[i]);
+    return s.bound[i];
+  }
+
+  /// Replaces the pair's bound at s by its exact distance (0 and s.colliding when the pair collides there:
+  /// decided by the collision test, as query decides it).
+  void exact(Sample& s, const MotionPair& p, int i, MotionResult<S>& result) const
+  {
+    s.exact[i] = 1;
+    const Body<S>& other = p.other_link >= 0 ? links[p.other_link] : obstacles[p.obstacle].body;
+    const Tf<S>& other_pose = p.other_link >= 0 ? s.poses[p.other_link] : obstacles[p.obstacle].pose;
+    if (bodiesCollide(links[p.link], s.poses[p.link], other, other_pose))
+    {
+      s.bound[i] = 0;
+      s.colliding = true;
+      return;
+    }
+    ++result.distance_queries;
+    s.bound[i] = bodiesDistance(links[p.link], s.poses[p.link], other, other_pose, std::numeric_limits<S>::infinity(),
+                                static_cast<fcl::Vector3<S>*>(nullptr), S(kMotionDistanceError)) /
+                 S(1 + kMotionDistanceError);
+  }
+
+  /// One segment, parameters in [0, 1] (see the class comment). Intervals are taken left first, so when a
+  /// colliding configuration is reported every interval before it has been certified.
+  MotionResult<S> segment(const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, const MotionRequest<S>& request) const
+  {
+    const std::vector<MotionPair> pairs = motionPairs();
+    const fcl::VectorX<S> step = to - from;
+    // Most any point of the pair can move relative to the other over the whole segment.
+    std::vector<S> sweep(pairs.size());
+    std::vector<double> link_sweep(links.size(), 0.0);
+    for (int link : geometric_links)
+      for (int v = 0; v < step.size(); ++v) link_sweep[link] += link_weights[link][v] * std::abs(double(step[v]));
+    for (std::size_t i = 0, self_index = 0; i < pairs.size(); ++i)
+    {
+      double s = 0;
+      if (pairs[i].other_link >= 0)
+      {
+        for (int v = 0; v < step.size(); ++v) s += self_weights[self_index][v] * std::abs(double(step[v]));
+        ++self_index;
+      }
+      else
+        s = link_sweep[pairs[i].link];
+      sweep[i] = S(s * (1 + 1e-6));
+    }
+    // Rounding of poses and distances in S, relative to the robot's reach.
+    const S pad = S(32) * std::numeric_limits<S>::epsilon() * S(1 + max_arm);
+    const S shortest = std::max(S(1e-9), S(16) * std::numeric_limits<S>::epsilon());
+
+    MotionResult<S> result;
+    std::vector<Sample> samples;
+    samples.push_back(sampleAt(from, to, S(0), pairs.size()));
+    samples.push_back(sampleAt(from, to, S(1), pairs.size()));
+    struct Interval
+    {
+      int a, b;
+      std::vector<int> active;
+    };
+    std::vector<Interval> stack;
+    {
+      Interval all{0, 1, std::vector<int>(pairs.size())};
+      for (std::size_t i = 0; i < pairs.size(); ++i) all.active[i] = int(i);
+      stack.push_back(std::move(all));
+    }
+    const auto collision = [&](S t, S free_until) {
+      result.colliding = true;
+      result.parameter = t;
+      result.free_until = free_until;
+      result.configurations_checked = int(samples.size());
+      return result;
+    };
+    while (!stack.empty())
+    {
+      Interval interval = std::move(stack.back());
+      stack.pop_back();
+      Sample& a = samples[interval.a];
+      Sample& b = samples[interval.b];
+      const S dt = b.t - a.t;
+      std::vector<int> remaining;
+      for (int i : interval.active)
+      {
+        const S moved = sweep[i] * dt + pad;
+        if (moved < bound(a, pairs, i) + bound(b, pairs, i)) continue;
+        if (!a.exact[i])
+        {
+          exact(a, pairs[i], i, result);
+          if (a.colliding) return collision(a.t, a.t);
+        }
+        if (!b.exact[i]) exact(b, pairs[i], i, result);
+        if (moved < a.bound[i] + b.bound[i]) continue;
+        remaining.push_back(i);
+      }
+      if (remaining.empty())
+      {
+        if (b.colliding) return collision(b.t, b.t);
+        result.free_until = b.t;
+        continue;
+      }
+      if (b.colliding && (!request.earliest || dt <= request.tolerance)) return collision(b.t, a.t);
+      // A pair that stays within rounding of contact without touching: bisection cannot certify it. An interval
+      // this short joins configurations a few ulps apart, which both ends' exact tests have found free.
+      if (dt < shortest)
+      {
+        result.free_until = b.t;
+        continue;
+      }
+      const int b_index = interval.b, a_index = interval.a;
+      samples.push_back(sampleAt(from, to, S(0.5) * (a.t + b.t), pairs.size()));  // a and b are invalid now
+      const int mid = int(samples.size()) - 1;
+      stack.push_back({mid, b_index, remaining});
+      stack.push_back({a_index, mid, std::move(remaining)});
+    }
+    result.free_until = 1;
+    result.configurations_checked = int(samples.size());
+    return result;
+  }
+
+  MotionResult<S> checkPath(const std::vector<fcl::VectorX<S>>& waypoints, const MotionRequest<S>& request) const
+  {
+    if (waypoints.empty()) throw std::invalid_argument("fcl_rs::Environment::checkPath: no waypoints");
+    const int dof = self.kinematics().numVariables();
+    for (std::size_t i = 0; i < waypoints.size(); ++i)
+      validateConfiguration(waypoints[i], dof, ("waypoint " + std::to_string(i)).c_str());
+    if (bv == BVType::kOBB)
+      throw std::invalid_argument("fcl_rs::Environment: motion checks need distances, which FCL lacks for OBB "
+                                  "trees; use RS, OBBRSS or RSS");
+    if (!(request.tolerance > 0 && request.tolerance <= 1))
+      throw std::invalid_argument("fcl_rs::Environment: motion tolerance " + std::to_string(double(request.tolerance)) +
+                                  " is outside (0, 1]");
+    MotionResult<S> total;
+    const std::size_t segments = std::max<std::size_t>(1, waypoints.size() - 1);
+    for (std::size_t i = 0; i < segments; ++i)
+    {
+      const fcl::VectorX<S>& to = waypoints[std::min(i + 1, waypoints.size() - 1)];
+      MotionResult<S> one = segment(waypoints[i], to, request);
+      total.configurations_checked += one.configurations_checked;
+      total.distance_queries += one.distance_queries;
+      total.free_until = S(i) + one.free_until;
+      if (one.colliding)
+      {
+        total.colliding = true;
+        total.parameter = S(i) + one.parameter;
+        return total;
+      }
+    }
+    return total;
+  }
+
+  BVType bv;
+  SelfCollision<S> self;
+  std::vector<Body<S>> links;
+  std::vector<int> geometric_links;
+  std::vector<std::vector<double>> levers;
+  std::vector<int> joint_variable;
+  std::vector<std::vector<double>> self_weights;  ///< per self pair, per variable: relative sweep per unit
+  std::vector<std::vector<double>> link_weights;  ///< per link, per variable: sweep per unit
+  double max_arm = 0;
+  std::vector<Obstacle> obstacles;
+};
+
+template <typename S>
+Environment<S>::Environment(const RobotModel& robot, BVType bv, const std::vector<DisabledCollision>& disabled)
+  : impl_(std::make_unique<Impl>(robot, bv, disabled))
+{
+}
+
+template <typename S>
+Environment<S>::~Environment() = default;
+template <typename S>
+Environment<S>::Environment(Environment&&) noexcept = default;
+template <typename S>
+Environment<S>& Environment<S>::operator=(Environment&&) noexcept = default;
+
+template <typename S>
+const SelfCollision<S>& Environment<S>::selfCollision() const
+{
+  return impl_->self;
+}
+
+template <typename S>
+const Kinematics<S>& Environment<S>::kinematics() const
+{
+  return impl_->self.kinematics();
+}
+
+template <typename S>
+BVType Environment<S>::bvType() const
+{
+  return impl_->bv;
+}
+
+template <typename S>
+void Environment<S>::addShape(const std::string& name, std::shared_ptr<fcl::CollisionGeometry<S>> shape,
+                              const fcl::Transform3<S>& pose)
+{
+  impl_->checkNewName(name);
+  if (!shape) throw std::invalid_argument("fcl_rs::Environment::addShape: obstacle '" + name + "' has no geometry");
+  switch (shape->getNodeType())
+  {
+    case fcl::GEOM_BOX:
+    case fcl::GEOM_SPHERE:
+    case fcl::GEOM_CYLINDER:
+    case fcl::GEOM_CAPSULE:
+    case fcl::GEOM_CONE:
+    case fcl::GEOM_ELLIPSOID:
+    case fcl::GEOM_CONVEX: break;
+    default:
+      throw std::invalid_argument("fcl_rs::Environment::addShape: obstacle '" + name +
+                                  "' is not a box, sphere, cylinder, capsule, cone, ellipsoid or convex shape");
+  }
+  validatePose(pose, "the pose of obstacle '" + name + "'");
+  impl_->add(name, std::move(shape), pose);
+}
+
+template <typename S>
+void Environment<S>::addMesh(const std::string& name, const TriangleMesh<S>& mesh, const fcl::Transform3<S>& pose)
+{
+  impl_->checkNewName(name);
+  validatePose(pose, "the pose of obstacle '" + name + "'");
+  impl_->add(name, buildTree<S>(impl_->bv, mesh), pose);
+}
+
+template <typename S>
+void Environment<S>::setPose(const std::string& name, const fcl::Transform3<S>& pose)
+{
+  const int i = impl_->require(name, "setPose");
+  validatePose(pose, "the pose of obstacle '" + name + "'");
+  auto& o = impl_->obstacles[i];
+  o.pose = pose;
+  o.sphere = place(o.body, pose);
+}
+
+template <typename S>
+void Environment<S>::remove(const std::string& name)
+{
+  impl_->obstacles.erase(impl_->obstacles.begin() + impl_->require(name, "remove"));
+}
+
+template <typename S>
+bool Environment<S>::contains(const std::string& name) const
+{
+  return impl_->find(name) >= 0;
+}
+
+template <typename S>
+std::vector<std::string> Environment<S>::obstacleNames() const
+{
+  std::vector<std::string> names;
+  for (const auto& o : impl_->obstacles) names.push_back(o.name);
+  return names;
+}
+
+template <typename S>
+const fcl::Transform3<S>& Environment<S>::pose(const std::string& name) const
+{
+  return impl_->obstacles[impl_->require(name, "pose")].pose;
+}
+
+template <typename S>
+EnvironmentResult<S> Environment<S>::query(const fcl::VectorX<S>& q, const EnvironmentRequest& request) const
+{
+  return impl_->query(q, request);
+}
+
+template <typename S>
+MotionResult<S> Environment<S>::checkMotion(const fcl::VectorX<S>& from, const fcl::VectorX<S>& to,
+                                            const MotionRequest<S>& request) const
+{
+  const int dof = kinematics().numVariables();
+  validateConfiguration(from, dof, "motion start");
+  validateConfiguration(to, dof, "motion end");
+  return impl_->checkPath({from, to}, request);
+}
+
+template <typename S>
+MotionResult<S> Environment<S>::checkPath(const std::vector<fcl::VectorX<S>>& waypoints,
+                                          const MotionRequest<S>& request) const
+{
+  return impl_->checkPath(waypoints, request);
+}
+
+template class Environment<float>;
+template class Environment<double>;
+
+}  // namespace fcl_rs

@@ -1,0 +1,452 @@
+// Environment: a robot among obstacles. Queries against brute force (every link x every obstacle with
+// fcl_rs::collide / distance), motion checks against dense sampling (grazing a thin obstacle between two samples
+// included), obstacles added, moved and removed, bad input, and the batches against the single calls.
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <memory>
+#include <random>
+
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/plane.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/math/bv/OBB.h>
+#include <fcl/math/bv/OBBRSS.h>
+#include <gtest/gtest.h>
+
+#include "fcl_rs/collide.h"
+#include "fcl_rs/distance.h"
+#include "fcl_rs/robot.h"
+#ifdef FCL_RS_TEST_BATCH
+#include "fcl_rs/robot/batch_environment.h"
+#endif
+#include "test_util.h"
+
+namespace fcl_rs {
+namespace {
+
+const RobotModel* panda()
+{
+  static std::unique_ptr<RobotModel> robot = [] {
+    const std::string urdf = test::sharedData("robots/panda/panda.urdf");
+    return urdf.empty() ? nullptr : std::make_unique<RobotModel>(loadUrdf(urdf));
+  }();
+  return robot.get();
+}
+
+std::vector<DisabledCollision> pandaSrdf()
+{
+  return loadDisabledCollisions(test::sharedData("robots/panda/panda.srdf"), *panda());
+}
+
+/// Expects f to throw std::invalid_argument with `part` in its message.
+void expectInvalid(const std::function<void()>& f, const std::string& part)
+{
+  try
+  {
+    f();
+    ADD_FAILURE() << "no exception";
+  }
+  catch (const std::invalid_argument& e)
+  {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << "'" << part << "' not in: " << e.what();
+  }
+}
+
+template <typename S>
+fcl::Transform3<S> at(S x, S y, S z)
+{
+  fcl::Transform3<S> tf = fcl::Transform3<S>::Identity();
+  tf.translation() = fcl::Vector3<S>(x, y, z);
+  return tf;
+}
+
+/// An obstacle as the brute force sees it: its own geometry (mesh trees built here), pose and name.
+template <typename S>
+struct Reference
+{
+  std::string name;
+  std::shared_ptr<fcl::CollisionGeometry<S>> geometry;
+  fcl::Transform3<S> pose;
+};
+
+template <typename S>
+std::shared_ptr<fcl::CollisionGeometry<S>> referenceTree(BVType bv, const TriangleMesh<S>& mesh)
+{
+  switch (bv)
+  {
+    case BVType::kRS: return buildModel<RS<S>>(mesh);
+    case BVType::kOBBRSS: return buildModel<fcl::OBBRSS<S>>(mesh);
+    case BVType::kOBB: return buildModel<fcl::OBB<S>>(mesh);
+    default: throw std::logic_error("unused BV type");
+  }
+}
+
+/// A planning scene around the Panda: a table, a two-board shelf, a sphere and a torus mesh, and seeded small
+/// spheres within reach.
+template <typename S>
+std::vector<Reference<S>> scene(Environment<S>& env, std::mt19937_64& rng)
+{
+  std::vector<Reference<S>> refs;
+  const auto shape = [&](const std::string& name, std::shared_ptr<fcl::CollisionGeometry<S>> g,
+                         const fcl::Transform3<S>& pose) {
+    env.addShape(name, g, pose);
+    refs.push_back({name, g, pose});
+  };
+  const auto mesh = [&](const std::string& name, const TriangleMesh<S>& m, const fcl::Transform3<S>& pose) {
+    env.addMesh(name, m, pose);
+    refs.push_back({name, referenceTree(env.bvType(), m), pose});
+  };
+  shape("table", std::make_shared<fcl::Box<S>>(S(1.6), S(1.6), S(0.04)), at<S>(0, 0, S(-0.05)));
+  shape("shelf_low", std::make_shared<fcl::Box<S>>(S(0.3), S(0.8), S(0.02)), at<S>(S(0.65), 0, S(0.3)));
+  shape("shelf_high", std::make_shared<fcl::Box<S>>(S(0.3), S(0.8), S(0.02)), at<S>(S(0.65), 0, S(0.7)));
+  mesh("ball", makeSphere<S>(S(0.08), 8, 12), at<S>(S(0.3), S(0.4), S(0.5)));
+  mesh("ring", makeTorus<S>(S(0.12), S(0.03), 12, 8), at<S>(S(-0.3), S(-0.4), S(0.4)));
+  std::uniform_real_distribution<double> u(-0.7, 0.7), h(0.1, 1.0);
+  for (int i = 0; i < 6; ++i)
+    shape("pebble" + std::to_string(i), std::make_shared<fcl::Sphere<S>>(S(0.04)), at<S>(S(u(rng)), S(u(rng)), S(h(rng))));
+  return refs;
+}
+
+/// Brute force: every colliding self pair (SelfCollision::query) and every link x obstacle pair by
+/// fcl_rs::collide on every element; the minimum distance over all of them by fcl_rs::distance.
+template <typename S>
+struct BruteForce
+{
+  std::vector<BodyPair> pairs;
+  S distance = std::numeric_limits<S>::infinity();
+};
+
+template <typename S>
+BruteForce<S> bruteForce(const Environment<S>& env, const std::vector<Reference<S>>& refs, const fcl::VectorX<S>& q,
+                         bool distances)
+{
+  const SelfCollision<S>& self = env.selfCollision();
+  const std::vector<fcl::Transform3<S>> poses = env.kinematics().linkPoses(q);
+  BruteForce<S> out;
+  SelfCheckRequest self_request;
+  self_request.colliding_pairs = true;
+  for (const LinkPair& p : self.query(q, self_request).pairs)
+    out.pairs.push_back({self.linkNames()[p.first], self.linkNames()[p.second], true});
+  const fcl::CollisionRequest<S> request;
+  const fcl::DistanceRequest<S> distance_request;
+  const auto elementDistance = [&](const LinkElement<S>& e, const fcl::Transform3<S>& pose,
+                                   const fcl::CollisionGeometry<S>* g, const fcl::Transform3<S>& tf) {
+    fcl::DistanceResult<S> result;
+    return std::max(S(0), fcl_rs::distance(e.geometry, fcl::Transform3<S>(pose * e.origin), g, tf, distance_request, result));
+  };
+  for (std::size_t link = 0; link < poses.size(); ++link)
+  {
+    const auto elements = self.linkElements(int(link));
+    for (const Reference<S>& r : refs)
+    {
+      bool hit = false;
+      for (const LinkElement<S>& e : elements)
+      {
+        fcl::CollisionResult<S> result;
+        hit = hit || fcl_rs::collide(e.geometry, fcl::Transform3<S>(poses[link] * e.origin), r.geometry.get(), r.pose,
+                                     request, result) > 0;
+        if (distances) out.distance = std::min(out.distance, elementDistance(e, poses[link], r.geometry.get(), r.pose));
+      }
+      if (hit) out.pairs.push_back({self.linkNames()[link], r.name, false});
+    }
+  }
+  if (distances)
+    for (const LinkPair& p : self.pairs())
+      for (const LinkElement<S>& e : self.linkElements(p.first))
+        for (const LinkElement<S>& f : self.linkElements(p.second))
+          out.distance = std::min(out.distance, elementDistance(e, poses[p.first], f.geometry,
+                                                                fcl::Transform3<S>(poses[p.second] * f.origin)));
+  return out;
+}
+
+template <typename S>
+class EnvironmentTest : public ::testing::Test
+{
+};
+TYPED_TEST_SUITE(EnvironmentTest, test::Scalars);
+
+TYPED_TEST(EnvironmentTest, QueriesAgreeWithBruteForce)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  for (BVType bv : {BVType::kRS, BVType::kOBBRSS, BVType::kOBB})
+  {
+    SCOPED_TRACE(bvTypeName(bv));
+    auto rng = test::seededRng("QueriesAgreeWithBruteForce/" + test::scalarName<S>() + "/" + bvTypeName(bv));
+    Environment<S> env(*panda(), bv, pandaSrdf());
+    const std::vector<Reference<S>> refs = scene(env, rng);
+    const bool distances = bv != BVType::kOBB;
+    int colliding = 0, world = 0;
+    for (int i = 0; i < (test::kSanitized ? 4 : 12); ++i)
+    {
+      const fcl::VectorX<S> q = env.kinematics().randomConfiguration(rng);
+      SCOPED_TRACE(::testing::Message() << "configuration " << i << ": " << q.transpose());
+      EnvironmentRequest request;
+      request.colliding_pairs = true;
+      request.minimum_distance = distances;
+      const EnvironmentResult<S> result = env.query(q, request);
+      const BruteForce<S> expected = bruteForce(env, refs, q, distances);
+      EXPECT_EQ(result.pairs, expected.pairs);
+      EXPECT_EQ(result.colliding, !expected.pairs.empty());
+      EXPECT_EQ(env.query(q).colliding, result.colliding);  // the first-contact query
+      colliding += result.colliding;
+      world += std::any_of(result.pairs.begin(), result.pairs.end(), [](const BodyPair& p) { return !p.other_is_link; });
+      if (!distances) continue;
+      if (result.colliding)
+      {
+        EXPECT_EQ(result.minimum_distance, S(0));
+        continue;
+      }
+      const S tolerance = std::is_same<S, float>::value ? S(1e-4) : S(1e-9);
+      EXPECT_NEAR(result.minimum_distance, expected.distance, tolerance);
+      EXPECT_FALSE(result.nearest_pair.link.empty());
+      // FCL's oriented trees report some nearest points in a mesh's own frame; RS's are in the root frame.
+      if (bv != BVType::kRS) continue;
+      const S points_tolerance = std::is_same<S, float>::value ? S(1e-3) : S(1e-6);
+      EXPECT_NEAR((result.nearest_points[0] - result.nearest_points[1]).norm(), result.minimum_distance,
+                  points_tolerance);
+    }
+    // The scene exercises both answers and the world part.
+    EXPECT_GT(colliding, 0);
+    EXPECT_GT(world, 0);
+  }
+}
+
+TYPED_TEST(EnvironmentTest, ObstaclesAddedMovedAndRemoved)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
+  const fcl::VectorX<S> home = (fcl::VectorX<S>(8) << 0, S(-0.785), 0, S(-2.356), 0, S(1.571), S(0.785), S(0.02)).finished();
+  ASSERT_FALSE(env.query(home).colliding);
+  const int hand = panda()->linkIndex("panda_hand");
+  const fcl::Vector3<S> hand_at = env.kinematics().linkPoses(home)[hand].translation();
+  env.addShape("block", std::make_shared<fcl::Box<S>>(S(0.05), S(0.05), S(0.05)), at<S>(S(2), S(2), S(2)));
+  EXPECT_FALSE(env.query(home).colliding);
+  env.setPose("block", at<S>(hand_at.x(), hand_at.y(), hand_at.z()));
+  EnvironmentRequest request;
+  request.colliding_pairs = true;
+  const EnvironmentResult<S> hit = env.query(home, request);
+  ASSERT_TRUE(hit.colliding);
+  EXPECT_TRUE(std::any_of(hit.pairs.begin(), hit.pairs.end(),
+                          [](const BodyPair& p) { return p.link == "panda_hand" && p.other == "block" && !p.other_is_link; }));
+  EXPECT_EQ(env.obstacleNames(), std::vector<std::string>{"block"});
+  env.remove("block");
+  EXPECT_FALSE(env.contains("block"));
+  EXPECT_FALSE(env.query(home).colliding);
+  // The distance names the nearest obstacle once one is nearer than any self pair.
+  env.addShape("near", std::make_shared<fcl::Sphere<S>>(S(0.01)), at<S>(hand_at.x(), hand_at.y(), hand_at.z() + S(0.2)));
+  request.minimum_distance = true;
+  const EnvironmentResult<S> near = env.query(home, request);
+  EXPECT_FALSE(near.colliding);
+  EXPECT_EQ(near.nearest_pair.other, "near");
+  EXPECT_FALSE(near.nearest_pair.other_is_link);
+}
+
+TYPED_TEST(EnvironmentTest, BadInputIsRefused)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  EXPECT_THROW(Environment<S>(*panda(), BVType::kKDOP18), std::invalid_argument);
+  Environment<S> env(*panda(), BVType::kRS);
+  const auto box = std::make_shared<fcl::Box<S>>(S(0.1), S(0.1), S(0.1));
+  expectInvalid([&] { env.addShape("", box, at<S>(0, 0, 0)); }, "empty");
+  expectInvalid([&] { env.addShape("a", nullptr, at<S>(0, 0, 0)); }, "'a'");
+  expectInvalid(
+      [&] { env.addShape("a", std::make_shared<fcl::Plane<S>>(fcl::Vector3<S>::UnitZ(), S(0)), at<S>(0, 0, 0)); }, "'a'");
+  fcl::Transform3<S> bad = at<S>(0, 0, 0);
+  bad.linear()(0, 0) = S(2);
+  expectInvalid([&] { env.addShape("a", box, bad); }, "rigid");
+  bad = at<S>(std::numeric_limits<S>::quiet_NaN(), 0, 0);
+  expectInvalid([&] { env.addShape("a", box, bad); }, "rigid");
+  env.addShape("a", box, at<S>(2, 0, 0));
+  expectInvalid([&] { env.addShape("a", box, at<S>(0, 0, 0)); }, "exists");
+  expectInvalid([&] { env.addMesh("m", TriangleMesh<S>{}, at<S>(0, 0, 0)); }, "");
+  expectInvalid([&] { env.setPose("b", at<S>(0, 0, 0)); }, "'b'");
+  expectInvalid([&] { env.remove("b"); }, "'b'");
+  expectInvalid([&] { env.query(fcl::VectorX<S>::Zero(3)); }, "3 values");
+  fcl::VectorX<S> q = fcl::VectorX<S>::Zero(8);
+  q[2] = std::numeric_limits<S>::infinity();
+  expectInvalid([&] { env.query(q); }, "non-finite");
+  expectInvalid([&] { env.checkMotion(fcl::VectorX<S>::Zero(8), q); }, "motion end");
+  MotionRequest<S> zero;
+  zero.tolerance = 0;
+  expectInvalid(
+      [&] { env.checkMotion(fcl::VectorX<S>::Zero(8), fcl::VectorX<S>::Zero(8), zero); }, "tolerance");
+  expectInvalid([&] { env.checkPath({}); }, "waypoints");
+  Environment<S> obb(*panda(), BVType::kOBB);
+  EnvironmentRequest distance;
+  distance.minimum_distance = true;
+  expectInvalid([&] { obb.query(fcl::VectorX<S>::Zero(8), distance); }, "OBB");
+  expectInvalid(
+      [&] { obb.checkMotion(fcl::VectorX<S>::Zero(8), fcl::VectorX<S>::Zero(8)); }, "OBB");
+}
+
+/// The configuration at parameter t of the segment.
+template <typename S>
+fcl::VectorX<S> along(const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, S t)
+{
+  return from + t * (to - from);
+}
+
+/// The motion check against dense sampling: a free answer has no colliding sample; a colliding one names a
+/// colliding configuration, no sample below free_until collides, and free_until is within the tolerance.
+template <typename S>
+void expectMotionAgreesWithSampling(const Environment<S>& env, const fcl::VectorX<S>& from, const fcl::VectorX<S>& to,
+                                    int samples, const MotionRequest<S>& request, int* colliding_count)
+{
+  const MotionResult<S> motion = env.checkMotion(from, to, request);
+  int first = -1;
+  for (int k = 0; k <= samples && first < 0; ++k)
+    if (env.query(along(from, to, S(k) / S(samples))).colliding) first = k;
+  if (!motion.colliding)
+  {
+    EXPECT_EQ(first, -1) << "the motion check says free, sample " << first << "/" << samples << " collides";
+    return;
+  }
+  ++*colliding_count;
+  EXPECT_TRUE(env.query(along(from, to, motion.parameter)).colliding) << "parameter " << motion.parameter;
+  EXPECT_LE(motion.free_until, motion.parameter);
+  if (request.earliest)
+  {
+    EXPECT_LE(motion.parameter - motion.free_until, request.tolerance);
+  }
+  if (first >= 0)
+  {
+    EXPECT_LE(motion.free_until, S(first) / S(samples) + S(1e-6));
+  }
+}
+
+TYPED_TEST(EnvironmentTest, MotionChecksAgreeWithDenseSampling)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  for (BVType bv : {BVType::kRS, BVType::kOBBRSS})
+  {
+    SCOPED_TRACE(bvTypeName(bv));
+    auto rng = test::seededRng("MotionChecksAgreeWithDenseSampling/" + test::scalarName<S>() + "/" + bvTypeName(bv));
+    Environment<S> env(*panda(), bv, pandaSrdf());
+    scene(env, rng);
+    std::uniform_real_distribution<double> step(-0.6, 0.6);
+    int colliding = 0, segments = 0;
+    for (int i = 0; i < (test::kSanitized ? 3 : 8); ++i)
+    {
+      fcl::VectorX<S> from = env.kinematics().randomConfiguration(rng);
+      for (int tries = 0; tries < 100 && env.query(from).colliding; ++tries) from = env.kinematics().randomConfiguration(rng);
+      fcl::VectorX<S> to = from;
+      for (int v = 0; v < to.size(); ++v)
+        to[v] = std::clamp(S(to[v] + step(rng)), env.kinematics().lower()[v], env.kinematics().upper()[v]);
+      SCOPED_TRACE(::testing::Message() << "segment " << i << " from " << from.transpose() << " to " << to.transpose());
+      for (bool earliest : {true, false})
+      {
+        MotionRequest<S> request;
+        request.earliest = earliest;
+        expectMotionAgreesWithSampling(env, from, to, test::kSanitized ? 50 : 150, request, &colliding);
+      }
+      ++segments;
+    }
+    EXPECT_GT(colliding, 0);
+    EXPECT_LT(colliding, 2 * segments);
+  }
+}
+
+TYPED_TEST(EnvironmentTest, MotionChecksCatchAGrazingObstacleBetweenSamples)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  auto rng = test::seededRng("MotionChecksCatchAGrazingObstacleBetweenSamples/" + test::scalarName<S>());
+  Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
+  const int hand = panda()->linkIndex("panda_hand");
+  const TriangleMesh<double>& hand_mesh = panda()->links[hand].mesh;
+  ASSERT_FALSE(hand_mesh.vertices.empty());
+  std::uniform_real_distribution<double> step(-0.5, 0.5);
+  std::uniform_int_distribution<std::size_t> vertex(0, hand_mesh.vertices.size() - 1);
+  const int resolution = 100;  // a discrete checker's samples along the segment
+  int missed_by_sampling = 0;
+  for (int i = 0; i < 12; ++i)
+  {
+    const fcl::VectorX<S> from = env.kinematics().randomConfiguration(rng);
+    fcl::VectorX<S> to = from;
+    for (int v = 0; v < to.size(); ++v)
+      to[v] = std::clamp(S(to[v] + step(rng)), env.kinematics().lower()[v], env.kinematics().upper()[v]);
+    if (env.checkMotion(from, to).colliding) continue;
+    // A speck on the hand's surface halfway between two samples.
+    const int k = resolution / 2;
+    const S t = (S(k) + S(0.5)) / S(resolution);
+    const fcl::Vector3<S> p =
+        env.kinematics().linkPoses(along(from, to, t))[hand] * hand_mesh.vertices[vertex(rng)].template cast<S>();
+    env.addShape("speck", std::make_shared<fcl::Sphere<S>>(S(2e-4)), at<S>(p.x(), p.y(), p.z()));
+    SCOPED_TRACE(::testing::Message() << "segment " << i << " from " << from.transpose() << " to " << to.transpose());
+    ASSERT_TRUE(env.query(along(from, to, t)).colliding);
+    const MotionResult<S> motion = env.checkMotion(from, to);
+    EXPECT_TRUE(motion.colliding);
+    EXPECT_LE(motion.free_until, t);
+    EXPECT_TRUE(env.query(along(from, to, motion.parameter)).colliding);
+    missed_by_sampling += !env.query(along(from, to, S(k) / S(resolution))).colliding &&
+                          !env.query(along(from, to, S(k + 1) / S(resolution))).colliding;
+    env.remove("speck");
+  }
+  std::cout << "[grazing] " << missed_by_sampling << " specks fall between two of " << resolution << " samples\n";
+  EXPECT_GT(missed_by_sampling, 0);
+}
+
+TYPED_TEST(EnvironmentTest, PathsReportTheSegmentAndParameter)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
+  const fcl::VectorX<S> home = (fcl::VectorX<S>(8) << 0, S(-0.785), 0, S(-2.356), 0, S(1.571), S(0.785), S(0.02)).finished();
+  fcl::VectorX<S> turned = home, back = home;
+  turned[0] = S(0.6);
+  back[0] = S(-0.6);
+  EXPECT_FALSE(env.checkPath({home, turned, back}).colliding);
+  // A wall crossed only by the second segment (joint 0 turning to -0.6).
+  const fcl::Vector3<S> hand = env.kinematics().linkPoses(back)[panda()->linkIndex("panda_hand")].translation();
+  env.addShape("wall", std::make_shared<fcl::Box<S>>(S(0.02), S(0.02), S(0.02)), at<S>(hand.x(), hand.y(), hand.z()));
+  const MotionResult<S> path = env.checkPath({home, turned, back});
+  ASSERT_TRUE(path.colliding);
+  EXPECT_GT(path.parameter, S(1));
+  EXPECT_LE(path.parameter, S(2));
+  EXPECT_LE(path.free_until, path.parameter);
+  EXPECT_FALSE(env.checkPath({home}).colliding);
+}
+
+#ifdef FCL_RS_TEST_BATCH
+TYPED_TEST(EnvironmentTest, BatchesEqualSingleCalls)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  auto rng = test::seededRng("BatchesEqualSingleCalls/" + test::scalarName<S>());
+  Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
+  scene(env, rng);
+  const int n = test::kSanitized ? 4 : 8;
+  Configurations<S> qs(n, 8), ends(n, 8);
+  for (int i = 0; i < n; ++i)
+  {
+    qs.row(i) = env.kinematics().randomConfiguration(rng).transpose();
+    ends.row(i) = env.kinematics().randomConfiguration(rng).transpose();
+  }
+  EnvironmentRequest request;
+  request.colliding_pairs = request.minimum_distance = true;
+  BatchOptions options;
+  options.num_threads = 2;
+  const EnvironmentBatchResult<S> batch = environmentBatch(env, qs, request, options);
+  const MotionBatchResult<S> motions = motionBatch(env, qs, ends, MotionRequest<S>{}, options);
+  for (int i = 0; i < n; ++i)
+  {
+    const EnvironmentResult<S> one = env.query(qs.row(i).transpose(), request);
+    EXPECT_EQ(batch.colliding[i], one.colliding);
+    EXPECT_EQ(batch.pairs[i], one.pairs);
+    EXPECT_EQ(batch.minimum_distance[i], one.minimum_distance);
+    const MotionResult<S> motion = env.checkMotion(qs.row(i).transpose(), ends.row(i).transpose());
+    EXPECT_EQ(motions.colliding[i], motion.colliding);
+    EXPECT_EQ(motions.parameter[i], motion.parameter);
+    EXPECT_EQ(motions.free_until[i], motion.free_until);
+  }
+  expectInvalid([&] { motionBatch(env, qs, Configurations<S>(n - 1, 8)); }, "ends");
+}
+#endif
+
+}  // namespace
+}  // namespace fcl_rs
