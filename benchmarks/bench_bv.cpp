@@ -9,9 +9,12 @@
 //
 // Fit workload: the corners of the first N/3 triangles of the torus (three per triangle, as the tree
 // builders fit them). RS is fitted with each frame fit (Fit/RS/vertices is the paper's and the default).
+//
+// Validate/*: the check every query entry makes of each pose and of the request (fcl_rs/validate.h).
 
 #include "bench_common.h"
 #include "fcl_rs/bvh/frame_fit.h"
+#include "fcl_rs/validate.h"
 
 #include <fcl/math/bv/AABB.h>
 #include <fcl/math/bv/OBB.h>
@@ -274,11 +277,39 @@ void registerFits()
 
 }  // namespace
 
+// What each query entry pays to validate one pose (fcl_rs/validate.h; docs/robustness.md): random rigid poses,
+// in float and double, and a default collision request.
+template <typename T>
+void BM_ValidatePose(benchmark::State& state)
+{
+  Random rng(11);
+  std::vector<fcl::Transform3<T>> poses(kPoolSize, fcl::Transform3<T>::Identity());
+  for (auto& tf : poses)
+  {
+    tf.linear() = randomRotation(rng).cast<T>();
+    tf.translation() = (randomInUnitBall(rng) * 10).cast<T>();
+  }
+  runPool(state, poses.size(), [&](std::size_t i) { return fcl_rs::isRigidTransform(poses[i]); });
+}
+
+void BM_ValidateRequest(benchmark::State& state)
+{
+  const fcl::CollisionRequest<S> request;
+  for (auto _ : state)
+  {
+    benchmark::DoNotOptimize(&request);
+    fcl_rs::requireValidRequest(request, "bench");
+  }
+}
+
 int main(int argc, char** argv)
 {
   registerOverlap("leaf", leafPools);
   registerOverlap("internal", internalPools);
   registerFits();
+  benchmark::RegisterBenchmark("Validate/pose/float", BM_ValidatePose<float>);
+  benchmark::RegisterBenchmark("Validate/pose/double", BM_ValidatePose<double>);
+  benchmark::RegisterBenchmark("Validate/collision_request", BM_ValidateRequest);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   // Built before timing starts, so that no benchmark's first run pays for them.

@@ -202,6 +202,7 @@ const char* fastestFclName(const std::vector<Row>& rows, const std::string& robo
 }  // namespace
 
 int main(int argc, char** argv)
+try
 {
   Options o;
   CLI::App app("Times full-robot self-collision checks with RS, OBBRSS, OBB, RSS and KDOP18 link trees on the same\n"
@@ -303,4 +304,10 @@ int main(int argc, char** argv)
   int differ = 0;
   for (const Row& r : rows) differ += r.disagreements;
   return differ == 0 ? 0 : 1;
+}
+// Whatever escapes the body (a bad file, bad input) ends the command with its message, not std::terminate.
+catch (const std::exception& e)
+{
+  std::fprintf(stderr, "fcl_rs_bench_selfcheck: %s\n", e.what());
+  return 1;
 }

@@ -659,6 +659,7 @@ std::vector<Row> runPair(const MeshPair& pair, std::size_t index, const Options&
 }  // namespace
 
 int main(int argc, char** argv)
+try
 {
   Options opt;
   CLI::App app(description(), "fcl_rs_compare");
@@ -736,4 +737,10 @@ int main(int argc, char** argv)
     std::printf("CSV written to %s\n", opt.csv.c_str());
   }
   return 0;
+}
+// Whatever escapes the body (a bad file, bad input) ends the command with its message, not std::terminate.
+catch (const std::exception& e)
+{
+  std::fprintf(stderr, "fcl_rs_compare: %s\n", e.what());
+  return 1;
 }

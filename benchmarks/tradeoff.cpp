@@ -972,6 +972,7 @@ std::vector<Row> runMesh(const NamedMesh& input, std::size_t index, const Option
 }  // namespace
 
 int main(int argc, char** argv)
+try
 {
   Options opt;
   CLI::App app(description(), "fcl_rs_tradeoff");
@@ -1068,4 +1069,10 @@ int main(int argc, char** argv)
     return 1;
   }
   return 0;
+}
+// Whatever escapes the body (a bad file, bad input) ends the command with its message, not std::terminate.
+catch (const std::exception& e)
+{
+  std::fprintf(stderr, "fcl_rs_tradeoff: %s\n", e.what());
+  return 1;
 }

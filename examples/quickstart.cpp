@@ -1,10 +1,12 @@
 // Quick start: swap BVHModel<OBBRSS> for BVHModel<RS> and fcl::collide for fcl_rs::collide.
+#include <cstdio>
 #include <iostream>
 #include <memory>
 
 #include <fcl_rs/fcl_rs.h>
 
 int main(int argc, char** argv)
+try
 {
   // [quickstart]
   // Any mesh assimp reads (OBJ, STL, PLY, DAE, ...), or a generated one.
@@ -37,4 +39,10 @@ int main(int argc, char** argv)
             << "mesh-mesh contacts: " << mesh_mesh.numContacts() << "\n"
             << "mesh-box contacts:  " << mesh_box.numContacts() << "\n";
   return mesh_mesh.isCollision() ? 0 : 1;
+}
+// Whatever escapes the body (a bad file, bad input) ends the command with its message, not std::terminate.
+catch (const std::exception& e)
+{
+  std::fprintf(stderr, "fcl_rs_quickstart: %s\n", e.what());
+  return 1;
 }

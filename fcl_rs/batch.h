@@ -32,7 +32,8 @@ void parallelFor(std::size_t n, const BatchOptions& options,
 
 /// results[i] = the result of fcl_rs::collide(&a, poses_a[i], &b, poses_b[i], request, ...), for every i.
 /// The models are shared read-only by all threads. Throws std::invalid_argument when the pose lists differ in
-/// length, and whatever fcl_rs::collide throws for the pair.
+/// length, for a pose that is not rigid (naming poses_a[i] or poses_b[i]; each array is validated once, before
+/// any query) or an invalid request (fcl_rs/validate.h), and whatever fcl_rs::collide throws for the pair.
 template <typename S>
 std::vector<fcl::CollisionResult<S>> collideBatch(const fcl::CollisionGeometry<S>& a,
                                                   const std::vector<fcl::Transform3<S>>& poses_a,

@@ -23,7 +23,8 @@ struct QueryStats
 /// Mesh-mesh collision for any BV type with statistics. RS, OBB, RSS, OBBRSS and kIOS run in the
 /// meshes' local frames (relative transform, no copy); AABB and KDOP16/18/24 cannot, so both models
 /// are copied, moved to the world frame and rebuilt, exactly as fcl::collide does for them (pass
-/// identity transforms and pre-transformed models to count a world-frame tree's tests alone).
+/// identity transforms and pre-transformed models to count a world-frame tree's tests alone). Poses and the
+/// request are validated as fcl_rs::collide validates them.
 template <typename BV>
 QueryStats collideWithStats(const fcl::BVHModel<BV>& model1, const fcl::Transform3<typename BV::S>& tf1,
                             const fcl::BVHModel<BV>& model2, const fcl::Transform3<typename BV::S>& tf2,

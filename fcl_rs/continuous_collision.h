@@ -11,17 +11,20 @@
 
 #include "fcl_rs/collide.h"
 #include "fcl_rs/bv/rs.h"
+#include "fcl_rs/validate.h"
 
 namespace fcl_rs {
 
 /// Same overloads and meaning as fcl::continuousCollide. Pairs without an RS mesh are passed to
-/// fcl::continuousCollide unchanged. Pairs with an RS mesh support FCL's naive mode (CCDC_NAIVE, the
+/// fcl::continuousCollide unchanged, except in naive mode. Every pair supports FCL's naive mode (CCDC_NAIVE, the
 /// default): the motions are sampled at n = min(num_max_iterations, ceil(1 / toc_err)) evenly spaced times
 /// (at least the two ends; FCL divides by zero for n = 1) and the first sample where fcl_rs::collide finds a
 /// contact is the time of contact. Unlike FCL's naive mode, request.gjk_solver_type is passed on.
 /// The transform overloads need S = double with linear and screw motions: FCL 0.7's InterpMotion and
 /// ScrewMotion declare integrate(double), so for float they are abstract classes and do not compile.
-/// The other modes throw std::invalid_argument, since FCL cannot run them on RS (and on plain FCL they
+/// Poses (the transforms, or the motions' ends) must be rigid and the request valid (fcl_rs/validate.h), else
+/// std::invalid_argument names the argument. For RS meshes the other modes throw std::invalid_argument, since
+/// FCL cannot run them on RS (and on plain FCL they
 /// report "no collision" for RS meshes, silently):
 ///  * CCDC_CONSERVATIVE_ADVANCEMENT dispatches through a table hidden in libfcl.so, and FCL bounds a node's
 ///    motion (TBVMotionBoundVisitor) only for RSS; every other BV gets a bound of 0, i.e. "does not move".
@@ -39,6 +42,12 @@ S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S
                     const fcl::Transform3<S>& tf2_beg, const fcl::Transform3<S>& tf2_end,
                     const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result)
 {
+  constexpr const char* api = "fcl_rs::continuousCollide";
+  requireRigidTransform(tf1_beg, api, "tf1_beg");
+  requireRigidTransform(tf1_end, api, "tf1_end");
+  requireRigidTransform(tf2_beg, api, "tf2_beg");
+  requireRigidTransform(tf2_end, api, "tf2_end");
+  requireValidRequest(request, api);
   const fcl::MotionBasePtr<S> motion1 = fcl::getMotionBase(tf1_beg, tf1_end, request.ccd_motion_type);
   const fcl::MotionBasePtr<S> motion2 = fcl::getMotionBase(tf2_beg, tf2_end, request.ccd_motion_type);
   return fcl_rs::continuousCollide(o1, motion1.get(), o2, motion2.get(), request, result);
@@ -50,7 +59,10 @@ S continuousCollide(const fcl::CollisionObject<S>* o1, const fcl::Transform3<S>&
                     const fcl::CollisionObject<S>* o2, const fcl::Transform3<S>& tf2_end,
                     const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result)
 {
+  constexpr const char* api = "fcl_rs::continuousCollide";
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::continuousCollide: null collision object");
+  requireRigidTransform(o1->getTransform(), api, "o1->getTransform()");
+  requireRigidTransform(o2->getTransform(), api, "o2->getTransform()");
   return fcl_rs::continuousCollide(o1->collisionGeometry().get(), o1->getTransform(), tf1_end,
                                    o2->collisionGeometry().get(), o2->getTransform(), tf2_end, request, result);
 }
@@ -60,11 +72,27 @@ S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::MotionBase<S
                     const fcl::CollisionGeometry<S>* o2, const fcl::MotionBase<S>* motion2,
                     const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result)
 {
+  constexpr const char* api = "fcl_rs::continuousCollide";
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::continuousCollide: null collision geometry");
-  const bool has_rs = dynamic_cast<const fcl::BVHModel<RS<S>>*>(o1) || dynamic_cast<const fcl::BVHModel<RS<S>>*>(o2);
-  if (!has_rs) return fcl::continuousCollide(o1, motion1, o2, motion2, request, result);
   if (!motion1 || !motion2)
     throw std::invalid_argument("fcl_rs::continuousCollide: null motion (unknown request.ccd_motion_type?)");
+  requireValidRequest(request, api);
+  // A motion between two rigid transforms stays rigid in between (FCL interpolates rotations as quaternions).
+  fcl::Transform3<S> tf1, tf2;
+  for (const S t : {S(0), S(1)})
+  {
+    motion1->integrate(t);
+    motion2->integrate(t);
+    motion1->getCurrentTransform(tf1);
+    motion2->getCurrentTransform(tf2);
+    requireRigidTransform(tf1, api, t == 0 ? "motion1's start" : "motion1's end");
+    requireRigidTransform(tf2, api, t == 0 ? "motion2's start" : "motion2's end");
+  }
+  const bool has_rs = dynamic_cast<const fcl::BVHModel<RS<S>>*>(o1) || dynamic_cast<const fcl::BVHModel<RS<S>>*>(o2);
+  // Naive mode runs here for every pair: FCL's own loop divides 0 by 0 for num_max_iterations 1 (and samples a NaN
+  // pose) and converts 1 / toc_err to std::size_t unchecked.
+  if (!has_rs && request.ccd_solver_type != fcl::CCDC_NAIVE)
+    return fcl::continuousCollide(o1, motion1, o2, motion2, request, result);
   switch (request.ccd_solver_type)
   {
     case fcl::CCDC_NAIVE: break;
@@ -83,11 +111,12 @@ S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::MotionBase<S
       throw std::invalid_argument("fcl_rs::continuousCollide: unknown request.ccd_solver_type " +
                                   std::to_string(int(request.ccd_solver_type)));
   }
-  const std::size_t samples =
-      std::max<std::size_t>(2, std::min(request.num_max_iterations, std::size_t(std::ceil(1 / request.toc_err))));
+  // Compared before the conversion: 1 / toc_err may exceed every std::size_t.
+  const std::size_t samples = std::max<std::size_t>(
+      2, S(request.num_max_iterations) <= std::ceil(1 / request.toc_err) ? request.num_max_iterations
+                                                                         : std::size_t(std::ceil(1 / request.toc_err)));
   fcl::CollisionRequest<S> collision_request;
   collision_request.gjk_solver_type = request.gjk_solver_type;
-  fcl::Transform3<S> tf1, tf2;
   for (std::size_t i = 0; i < samples; ++i)
   {
     const S t = S(i) / S(samples - 1);

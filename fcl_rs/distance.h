@@ -23,7 +23,9 @@ namespace fcl_rs {
 /// are honoured: the result is within (1 + rel_err) times and abs_err of the true distance.
 /// fcl::distance cannot reach RS (its dispatch table is hidden inside libfcl.so) and would return
 /// max(); this function never does. An RS mesh against anything it cannot handle (another BV type's
-/// mesh, an octree, a TriangleP, a point cloud) throws std::invalid_argument naming the pair.
+/// mesh, an octree, a TriangleP, a point cloud) throws std::invalid_argument naming the pair. So does bad
+/// input, for every pair, before any test (fcl_rs/validate.h): a pose that is not a rigid transform, naming the
+/// argument; an invalid request field (rel_err, abs_err, distance_tolerance, gjk_solver_type), naming the field.
 template <typename S>
 S distance(const fcl::CollisionObject<S>* o1, const fcl::CollisionObject<S>* o2,
            const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result);

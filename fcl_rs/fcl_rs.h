@@ -16,6 +16,7 @@
 #include "fcl_rs/mesh/triangle_mesh.h"
 #include "fcl_rs/traversal/collision_traversal.h"
 #include "fcl_rs/traversal/distance_traversal.h"
+#include "fcl_rs/validate.h"
 #include "fcl_rs/collide.h"
 #include "fcl_rs/collide_with_stats.h"
 #include "fcl_rs/distance.h"

@@ -1,9 +1,14 @@
 """RS bounding-volume trees for FCL: collision and distance queries, batches on every core, robots.
 
-Poses are 4x4 homogeneous matrices (numpy, float64). Batch calls take (N, 4, 4) poses or (N, dof)
-configurations and return numpy arrays; num_threads=0 uses every core, 1 the calling thread only, and the
-results never depend on it. C++ errors arrive as ValueError (bad arguments) or RuntimeError (unreadable files)
-with the library's messages.
+Poses are 4x4 homogeneous matrices: rigid transforms (finite, rotation orthonormal within 256 eps and proper,
+last row [0, 0, 0, 1]). Batch calls take (N, 4, 4) poses or (N, dof) configurations and return numpy arrays;
+num_threads=0 uses every core, 1 the calling thread only, and the results never depend on it.
+
+Arrays may be float64, float32 or integers (widened to float64; a float32 pose is checked at float32's
+tolerance, 256 float32 eps, then made exactly orthonormal in double); triangle indices must be integers. Every
+argument is checked: a bad value, shape or dtype raises ValueError naming the function and the argument (for
+example "fcl_rs.collide: pose_a is not a rigid transform: entry (0, 3) is nan"), a wrong Python type TypeError.
+Unreadable files raise RuntimeError with the library's message.
 """
 from typing import Dict, List, Tuple, Union
 
@@ -20,7 +25,7 @@ class Geometry:
 class Mesh(Geometry):
     """A triangle mesh with an RS bounding-volume tree (surface-area splits)."""
     def __init__(self, vertices: ArrayLike, triangles: ArrayLike) -> None:
-        """Builds the tree over (V, 3) vertices and (F, 3) vertex indices."""
+        """Builds the tree over (V, 3) finite vertices and (F, 3) integer vertex indices in [0, V)."""
     @staticmethod
     def from_file(path: str) -> Mesh:
         """Loads every mesh of a file assimp reads (OBJ, STL, PLY, DAE, ...) into one tree."""
@@ -29,6 +34,7 @@ class Mesh(Geometry):
     @property
     def num_triangles(self) -> int: ...
 
+# Every size is positive and finite (ValueError otherwise).
 class Box(Geometry):
     def __init__(self, x: float, y: float, z: float) -> None: ...
 
@@ -58,7 +64,7 @@ class Contact:
     def normal(self) -> npt.NDArray[np.float64]: ...
 
 class CollisionRequest:
-    num_max_contacts: int
+    num_max_contacts: int  # at least 1
     enable_contact: bool
     def __init__(self, num_max_contacts: int = 1, enable_contact: bool = False) -> None: ...
 
@@ -71,7 +77,7 @@ class CollisionResult:
 class DistanceRequest:
     enable_nearest_points: bool
     enable_signed_distance: bool
-    rel_err: float
+    rel_err: float  # non-negative and finite, as abs_err
     abs_err: float
     def __init__(self, enable_nearest_points: bool = False, enable_signed_distance: bool = False,
                  rel_err: float = 0.0, abs_err: float = 0.0) -> None: ...
@@ -123,9 +129,9 @@ class Robot:
     def pairs(self) -> List[Tuple[int, int]]:
         """The link index pairs every check tests."""
     def random_configurations(self, n: int, seed: int) -> npt.NDArray[np.float64]:
-        """(n, dof) configurations uniform within the limits, from a seed."""
+        """(n, dof) configurations uniform within the limits, from a seed (n >= 0)."""
     def check(self, q: ArrayLike) -> List[Tuple[int, int]]:
-        """The colliding link index pairs at configuration q (dof,)."""
+        """The colliding link index pairs at configuration q (dof,), finite."""
     def minimum_distance(self, q: ArrayLike) -> float:
         """The smallest distance between two checked links at q (0 when colliding)."""
     def check_batch(self, q: ArrayLike, pairs: bool = False, minimum_distance: bool = False,

@@ -6,7 +6,7 @@
 #   --quick  only the Release build and CTest (build/), a few minutes
 #   Without --quick, then, each in its own build directory:
 #     build-asan  (clang, -O1) every GoogleTest case under AddressSanitizer + UndefinedBehaviorSanitizer, then
-#                 each libFuzzer target for FCL_RS_FUZZ_SECONDS s (default 40: the three share 2 minutes) from seed
+#                 each libFuzzer target for FCL_RS_FUZZ_SECONDS s (default: the targets share 2 minutes) from seed
 #                 FCL_RS_FUZZ_SEED (default 1)
 #     build-tsan  tests/test_concurrency and tests/test_batch under ThreadSanitizer (the batch on std::threads)
 #   Details and how to run one stage alone: docs/robustness.md.
@@ -53,7 +53,8 @@ asan="$root/build-asan"
 cmake -S "$root" -B "$asan" $(generator "$asan") -DCMAKE_CXX_COMPILER=clang++ "${sanitized[@]}" -DFCL_RS_FUZZ=ON \
   -DFCL_RS_SANITIZE=fuzzer-no-link,address,undefined > /dev/null
 mapfile -t tests < <(test_targets "$asan")
-cmake --build "$asan" -j2 --target "${tests[@]}" fuzz_mesh_load fuzz_rs fuzz_triangle_intersection fuzz_mesh_shape
+fuzz_targets=(fuzz_mesh_load fuzz_rs fuzz_triangle_intersection fuzz_api fuzz_mesh_shape)
+cmake --build "$asan" -j2 --target "${tests[@]}" "${fuzz_targets[@]}"
 # The GoogleTest cases (label unit); the other CTest tests run the examples and tools, not built here.
 (cd "$asan" && ctest --output-on-failure -j2 -L unit)
 
@@ -67,11 +68,11 @@ cmake -S "$root" -B "$tsan" $(generator "$tsan") "${sanitized[@]}" -DFCL_RS_SANI
 cmake --build "$tsan" -j2 --target test_concurrency test_batch
 (cd "$tsan" && ctest --output-on-failure -j2 -L unit -R '^(Concurrency|Batch)\.')
 
-# Four targets share the stage's two minutes (as two did at 60 s each before the leaf tests' targets).
-seconds="${FCL_RS_FUZZ_SECONDS:-30}"
+# The targets share the stage's two minutes (two had 60 s each, three 40 s), so that CI's time stays the same.
+seconds="${FCL_RS_FUZZ_SECONDS:-$((120 / ${#fuzz_targets[@]}))}"
 seed="${FCL_RS_FUZZ_SEED:-1}"
-stage "libFuzzer: fuzz_mesh_load, fuzz_rs, fuzz_triangle_intersection and fuzz_mesh_shape, ${seconds} s each, seed ${seed} (build-asan/fuzz)"
-for target in fuzz_mesh_load fuzz_rs fuzz_triangle_intersection fuzz_mesh_shape; do
+stage "libFuzzer: ${fuzz_targets[*]}, ${seconds} s each, seed ${seed} (build-asan/fuzz)"
+for target in "${fuzz_targets[@]}"; do
   corpus="$asan/fuzz/corpus/$target"
   mkdir -p "$corpus"
   [ -d "$root/fuzz/corpus/$target" ] && cp -n "$root/fuzz/corpus/$target"/* "$corpus/" 2> /dev/null || true

@@ -19,8 +19,8 @@
 #include <tbb/task_arena.h>
 #endif
 
-#include "fcl_rs/collide.h"
-#include "fcl_rs/distance.h"
+#include "validated_entries.h"
+#include "fcl_rs/validate.h"
 
 namespace fcl_rs {
 
@@ -92,16 +92,20 @@ void parallelFor(std::size_t n, const BatchOptions& options,
 
 namespace {
 
-/// results[i] = query(poses_a[i], poses_b[i], results[i]) for every i; each query writes its own slot only.
-template <typename Result, typename S, typename Query>
-std::vector<Result> poseBatch(const char* what, const std::vector<fcl::Transform3<S>>& poses_a,
-                              const std::vector<fcl::Transform3<S>>& poses_b, const BatchOptions& options,
-                              const Query& query)
+/// results[i] = query(poses_a[i], poses_b[i], results[i]) for every i; each query writes its own slot only. The
+/// inputs are validated here, once per array, and the queries skip the per-query validation.
+template <typename Result, typename S, typename Request, typename Query>
+std::vector<Result> poseBatch(const char* api, const std::vector<fcl::Transform3<S>>& poses_a,
+                              const std::vector<fcl::Transform3<S>>& poses_b, const Request& request,
+                              const BatchOptions& options, const Query& query)
 {
   if (poses_a.size() != poses_b.size())
-    throw std::invalid_argument(std::string("fcl_rs::") + what + ": " + std::to_string(poses_a.size()) +
+    throw std::invalid_argument(std::string(api) + ": " + std::to_string(poses_a.size()) +
                                 " poses for the first object but " + std::to_string(poses_b.size()) +
                                 " for the second");
+  requireRigidTransforms(poses_a, api, "poses_a");
+  requireRigidTransforms(poses_b, api, "poses_b");
+  requireValidRequest(request, api);
   std::vector<Result> results(poses_a.size());
   parallelFor(results.size(), options, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) query(poses_a[i], poses_b[i], results[i]);
@@ -119,9 +123,9 @@ std::vector<fcl::CollisionResult<S>> collideBatch(const fcl::CollisionGeometry<S
                                                   const fcl::CollisionRequest<S>& request, const BatchOptions& options)
 {
   return poseBatch<fcl::CollisionResult<S>>(
-      "collideBatch", poses_a, poses_b, options,
+      "fcl_rs::collideBatch", poses_a, poses_b, request, options,
       [&](const fcl::Transform3<S>& ta, const fcl::Transform3<S>& tb, fcl::CollisionResult<S>& result) {
-        collide(&a, ta, &b, tb, request, result);
+        detail::collideValidated(&a, ta, &b, tb, request, result);
       });
 }
 
@@ -133,9 +137,9 @@ std::vector<fcl::DistanceResult<S>> distanceBatch(const fcl::CollisionGeometry<S
                                                   const fcl::DistanceRequest<S>& request, const BatchOptions& options)
 {
   return poseBatch<fcl::DistanceResult<S>>(
-      "distanceBatch", poses_a, poses_b, options,
+      "fcl_rs::distanceBatch", poses_a, poses_b, request, options,
       [&](const fcl::Transform3<S>& ta, const fcl::Transform3<S>& tb, fcl::DistanceResult<S>& result) {
-        distance(&a, ta, &b, tb, request, result);
+        detail::distanceValidated(&a, ta, &b, tb, request, result);
       });
 }
 

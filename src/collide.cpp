@@ -1,5 +1,6 @@
 // fcl_rs::collide: dispatch of RS mesh pairs to the local-frame RS traversal, everything else to FCL.
 #include "rs_pairs.h"
+#include "validated_entries.h"
 #include "fcl_rs/collide.h"
 
 #include <sstream>
@@ -12,6 +13,7 @@
 
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/collision_traversal.h"
+#include "fcl_rs/validate.h"
 
 namespace fcl_rs {
 namespace {
@@ -107,14 +109,15 @@ std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3
 
 }  // namespace
 
+namespace detail {
+
 template <typename S>
-std::size_t collide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
-                    const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
-                    const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+std::size_t collideValidated(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
+                             const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
+                             const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
 {
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::collide: null collision geometry");
   if (!asRSMesh(o1) && !asRSMesh(o2)) return fcl::collide(o1, tf1, o2, tf2, request, result);
-  if (request.num_max_contacts == 0) return 0;  // fcl::collide's answer too
   switch (request.gjk_solver_type)
   {
     case fcl::GST_LIBCCD:
@@ -134,15 +137,43 @@ std::size_t collide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S
   throw std::invalid_argument("fcl_rs::collide: unknown request.gjk_solver_type");
 }
 
+}  // namespace detail
+
+template <typename S>
+std::size_t collide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
+                    const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
+                    const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+{
+  requireRigidTransform(tf1, kApi, "tf1");
+  requireRigidTransform(tf2, kApi, "tf2");
+  requireValidRequest(request, kApi);
+  return detail::collideValidated(o1, tf1, o2, tf2, request, result);
+}
+
 template <typename S>
 std::size_t collide(const fcl::CollisionObject<S>* o1, const fcl::CollisionObject<S>* o2,
                     const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
 {
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::collide: null collision object");
-  return fcl_rs::collide<S>(o1->collisionGeometry().get(), o1->getTransform(), o2->collisionGeometry().get(),
-                 o2->getTransform(), request, result);
+  requireRigidTransform(o1->getTransform(), kApi, "o1->getTransform()");
+  requireRigidTransform(o2->getTransform(), kApi, "o2->getTransform()");
+  requireValidRequest(request, kApi);
+  return detail::collideValidated(o1->collisionGeometry().get(), o1->getTransform(), o2->collisionGeometry().get(),
+                                  o2->getTransform(), request, result);
 }
 
+template std::size_t detail::collideValidated<float>(const fcl::CollisionGeometry<float>*,
+                                                     const fcl::Transform3<float>&,
+                                                     const fcl::CollisionGeometry<float>*,
+                                                     const fcl::Transform3<float>&,
+                                                     const fcl::CollisionRequest<float>&,
+                                                     fcl::CollisionResult<float>&);
+template std::size_t detail::collideValidated<double>(const fcl::CollisionGeometry<double>*,
+                                                      const fcl::Transform3<double>&,
+                                                      const fcl::CollisionGeometry<double>*,
+                                                      const fcl::Transform3<double>&,
+                                                      const fcl::CollisionRequest<double>&,
+                                                      fcl::CollisionResult<double>&);
 template std::size_t collide<float>(const fcl::CollisionObject<float>*, const fcl::CollisionObject<float>*,
                                     const fcl::CollisionRequest<float>&, fcl::CollisionResult<float>&);
 template std::size_t collide<float>(const fcl::CollisionGeometry<float>*, const fcl::Transform3<float>&,

@@ -6,9 +6,21 @@
 
 #include "fcl_rs/collide_with_stats.h"
 #include "fcl_rs/traversal/collision_traversal.h"
+#include "fcl_rs/validate.h"
 
 namespace fcl_rs {
 namespace {
+
+constexpr const char* kApi = "fcl_rs::collideWithStats";
+
+template <typename S>
+void requireValidQuery(const fcl::Transform3<S>& tf1, const fcl::Transform3<S>& tf2,
+                       const fcl::CollisionRequest<S>& request)
+{
+  requireRigidTransform(tf1, kApi, "tf1");
+  requireRigidTransform(tf2, kApi, "tf2");
+  requireValidRequest(request, kApi);
+}
 
 /// The local-frame traversal node of each BV type that has one.
 template <typename BV>
@@ -48,6 +60,7 @@ QueryStats collideWithStats(const fcl::BVHModel<BV>& model1, const fcl::Transfor
                             const fcl::CollisionRequest<typename BV::S>& request,
                             fcl::CollisionResult<typename BV::S>& result)
 {
+  requireValidQuery(tf1, tf2, request);
   using Node = typename LocalFrameNode<BV>::type;
   if constexpr (!std::is_void<Node>::value)
   {
@@ -81,6 +94,7 @@ QueryStats collideWithStats(const fcl::BVHModel<RS<S>>& model1, const fcl::Trans
                             const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result,
                             OverlapTest test)
 {
+  requireValidQuery(tf1, tf2, request);
   MeshCollisionTraversalNodeRS<S> node;
   if (!initialize(node, model1, tf1, model2, tf2, request, result))
     throw std::invalid_argument("fcl_rs::collideWithStats: both models must be triangle meshes");

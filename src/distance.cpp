@@ -1,5 +1,6 @@
 // fcl_rs::distance: dispatch of RS mesh pairs to the local-frame RS traversal, everything else to FCL.
 #include "rs_pairs.h"
+#include "validated_entries.h"
 #include "fcl_rs/distance.h"
 
 #include <cmath>
@@ -15,6 +16,7 @@
 #include "fcl_rs/collide.h"
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/distance_traversal.h"
+#include "fcl_rs/validate.h"
 
 namespace fcl_rs {
 namespace {
@@ -73,7 +75,7 @@ void signedDistanceFromContacts(const fcl::CollisionGeometry<S>* o1, const fcl::
   fcl::CollisionRequest<S> collision_request(std::numeric_limits<std::size_t>::max(), /*enable_contact=*/true);
   collision_request.gjk_solver_type = request.gjk_solver_type;
   fcl::CollisionResult<S> collision_result;
-  fcl_rs::collide(o1, tf1, o2, tf2, collision_request, collision_result);
+  detail::collideValidated(o1, tf1, o2, tf2, collision_request, collision_result);
   if (collision_result.numContacts() == 0)
   {
     result.min_distance = 0;
@@ -136,9 +138,12 @@ S distanceRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
 
 }  // namespace
 
+namespace detail {
+
 template <typename S>
-S distance(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1, const fcl::CollisionGeometry<S>* o2,
-           const fcl::Transform3<S>& tf2, const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+S distanceValidated(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
+                    const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
+                    const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
 {
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::distance: null collision geometry");
   if (!asRSMesh(o1) && !asRSMesh(o2)) return fcl::distance(o1, tf1, o2, tf2, request, result);
@@ -161,16 +166,34 @@ S distance(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1, c
   throw std::invalid_argument("fcl_rs::distance: unknown request.gjk_solver_type");
 }
 
+}  // namespace detail
+
+template <typename S>
+S distance(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1, const fcl::CollisionGeometry<S>* o2,
+           const fcl::Transform3<S>& tf2, const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+{
+  requireRigidTransform(tf1, kApi, "tf1");
+  requireRigidTransform(tf2, kApi, "tf2");
+  requireValidRequest(request, kApi);
+  return detail::distanceValidated(o1, tf1, o2, tf2, request, result);
+}
+
 template <typename S>
 S distance(const fcl::CollisionObject<S>* o1, const fcl::CollisionObject<S>* o2,
            const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
 {
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::distance: null collision object");
-  return fcl_rs::distance<S>(o1->collisionGeometry().get(), o1->getTransform(), o2->collisionGeometry().get(),
-                             o2->getTransform(), request, result);
+  requireRigidTransform(o1->getTransform(), kApi, "o1->getTransform()");
+  requireRigidTransform(o2->getTransform(), kApi, "o2->getTransform()");
+  requireValidRequest(request, kApi);
+  return detail::distanceValidated(o1->collisionGeometry().get(), o1->getTransform(), o2->collisionGeometry().get(),
+                                   o2->getTransform(), request, result);
 }
 
 #define FCL_RS_INSTANTIATE_DISTANCE(S)                                                                        \
+  template S detail::distanceValidated<S>(const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,        \
+                                          const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,        \
+                                          const fcl::DistanceRequest<S>&, fcl::DistanceResult<S>&);          \
   template S distance<S>(const fcl::CollisionObject<S>*, const fcl::CollisionObject<S>*,                     \
                          const fcl::DistanceRequest<S>&, fcl::DistanceResult<S>&);                           \
   template S distance<S>(const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,                        \

@@ -243,15 +243,40 @@ TYPED_TEST(Batch, BadInputIsAnError)
   test::expectError([&] { collideBatch<S>(*scene.torus, scene.poses_a, *scene.sphere, scene.poses_b, {}, {-1}); },
                     {"thread count", "-1"});
 
+  // Each pose array is validated once, before any query, naming the element; so is the request.
+  std::vector<fcl::Transform3<S>> bad = scene.poses_b;
+  bad[2].translation()[0] = std::numeric_limits<S>::infinity();
+  for (const int threads : {1, 2})
+  {
+    test::expectError([&] { collideBatch<S>(*scene.torus, scene.poses_a, *scene.sphere, bad, {}, {threads}); },
+                      {"fcl_rs::collideBatch: poses_b[2] is not a rigid transform: entry (0, 3) is inf"});
+    test::expectError(
+        [&] { distanceBatch<S>(*scene.torus, bad, *scene.sphere, scene.poses_b, fcl::DistanceRequest<S>(), {threads}); },
+                      {"fcl_rs::distanceBatch: poses_a[2] is not a rigid transform: entry (0, 3) is inf"});
+  }
+  bad = scene.poses_a;
+  bad[1].linear() *= S(1.001);
+  test::expectError([&] { collideBatch<S>(*scene.torus, bad, *scene.sphere, scene.poses_b, {}); },
+                    {"fcl_rs::collideBatch: poses_a[1] is not a rigid transform: its rotation is not orthonormal"});
+  test::expectError([&] { collideBatch<S>(*scene.torus, scene.poses_a, *scene.sphere, scene.poses_b, {0}); },
+                    {"fcl_rs::collideBatch: request.num_max_contacts must be at least 1"});
+  fcl::DistanceRequest<S> bad_request;
+  bad_request.abs_err = std::numeric_limits<S>::quiet_NaN();
+  test::expectError([&] { distanceBatch<S>(*scene.torus, scene.poses_a, *scene.sphere, scene.poses_b, bad_request); },
+                    {"fcl_rs::distanceBatch: request.abs_err"});
+
   const RobotModel robot = foldingChain();
   const SelfCollision<S> rs(robot, BVType::kRS);
   const Configurations<S> wide = Configurations<S>::Zero(4, 7);
   test::expectError([&] { selfCollisionBatch(rs, wide); }, {"7 columns", "5 joint variables"});
   Configurations<S> nan = Configurations<S>::Zero(4, 5);
   nan(2, 1) = std::numeric_limits<S>::quiet_NaN();
-  test::expectError([&] { selfCollisionBatch(rs, nan, {}, {2}); }, {"non-finite"});
+  test::expectError([&] { selfCollisionBatch(rs, nan, {}, {2}); },
+                    {"fcl_rs::selfCollisionBatch: configurations[2, 1] is not finite: nan"});
+  nan(2, 1) = -std::numeric_limits<S>::infinity();
+  test::expectError([&] { selfCollisionBatch(rs, nan, {}, {1}); }, {"configurations[2, 1] is not finite: -inf"});
   const SelfCollision<S> kdop(robot, BVType::kKDOP18);
-  test::expectError([&] { selfCollisionBatch(kdop, nan); }, {"KDOP18"});
+  test::expectError([&] { selfCollisionBatch(kdop, Configurations<S>::Zero(4, 5)); }, {"KDOP18"});
   const SelfCollision<S> obb(robot, BVType::kOBB);
   SelfCheckRequest distance;
   distance.minimum_distance = true;

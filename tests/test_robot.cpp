@@ -263,7 +263,9 @@ TYPED_TEST(Kinematic, MatchesHandComputedPoses)
   EXPECT_THROW(kin.linkPoses(fcl::VectorX<S>::Zero(2)), std::invalid_argument);
   fcl::VectorX<S> bad = fcl::VectorX<S>::Zero(3);
   bad[1] = std::numeric_limits<S>::quiet_NaN();
-  EXPECT_THROW(kin.linkPoses(bad), std::invalid_argument);
+  test::expectError([&] { kin.linkPoses(bad); }, {"fcl_rs::Kinematics: configuration q[1] is not finite: nan"});
+  bad[1] = std::numeric_limits<S>::infinity();
+  test::expectError([&] { kin.linkPoses(bad); }, {"q[1] is not finite: inf"});
 }
 
 /// Kinematics folds each joint's origin into its motion (Rodrigues' formula); composing the URDF's values joint
@@ -482,6 +484,29 @@ TYPED_TEST(SelfCheck, Ur5AllBVTypesAgree)
   const RobotModel* ur5 = sharedRobot("ur5");
   if (!ur5) FCL_RS_MISSING_SHARED_DATA("robots/ur5");
   checkAllBVTypesAgree<TypeParam>(*ur5, sharedSrdf(*ur5), 400, 5);
+}
+
+/// Every check refuses a non-finite configuration and checkPoses a pose that is not rigid, for every BV type,
+/// before any pair is tested (FCL's shape tests abort in libccd on NaN poses).
+TYPED_TEST(SelfCheck, BadConfigurationsAndPosesAreErrors)
+{
+  using S = TypeParam;
+  const RobotModel robot = loadUrdf(writeTestbot());
+  for (BVType bv : kRobotBVTypes)
+  {
+    SCOPED_TRACE(bvTypeName(bv));
+    SelfCollision<S> checker(robot, bv);
+    fcl::VectorX<S> q = fcl::VectorX<S>::Zero(checker.kinematics().numVariables());
+    q[0] = std::numeric_limits<S>::quiet_NaN();
+    expectError([&] { checker.check(q); }, {"q[0] is not finite: nan"});
+    expectError([&] { checker.inCollision(q); }, {"q[0] is not finite: nan"});
+    if (bv != BVType::kKDOP18) expectError([&] { checker.query(q, {}); }, {"q[0] is not finite: nan"});
+    std::vector<fcl::Transform3<S>> poses = checker.kinematics().linkPoses(fcl::VectorX<S>::Zero(q.size()));
+    poses.back().linear()(0, 1) = S(0.25);
+    expectError([&] { checker.checkPoses(poses); },
+                {"fcl_rs::SelfCollision::checkPoses: poses[" + std::to_string(poses.size() - 1) +
+                 "] is not a rigid transform: its rotation is not orthonormal"});
+  }
 }
 
 TEST(SelfCheck, ParsesBVTypeNames)

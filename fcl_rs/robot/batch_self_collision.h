@@ -33,7 +33,8 @@ struct SelfCollisionBatchResult
 
 /// checker.query(row i, request) for every row, concurrently as `options` allows; equal to the single
 /// queries for every thread count. Throws std::invalid_argument when the rows do not have
-/// checker.kinematics().numVariables() columns, and whatever SelfCollision::query throws.
+/// checker.kinematics().numVariables() columns or a non-finite entry (named by row and column, before any
+/// query), and whatever SelfCollision::query throws.
 template <typename S>
 SelfCollisionBatchResult<S> selfCollisionBatch(const SelfCollision<S>& checker,
                                                const ConfigurationsRef<S>& configurations,

@@ -54,7 +54,10 @@ public:
     if (q.size() != lower_.size())
       throw std::invalid_argument("fcl_rs::Kinematics: configuration has " + std::to_string(q.size()) +
                                   " values, the robot has " + std::to_string(lower_.size()) + " joint variables");
-    if (!q.allFinite()) throw std::invalid_argument("fcl_rs::Kinematics: configuration has a non-finite value");
+    for (Eigen::Index i = 0; i < q.size(); ++i)
+      if (!std::isfinite(q[i]))
+        throw std::invalid_argument("fcl_rs::Kinematics: configuration q[" + std::to_string(i) + "] is not finite: " +
+                                    std::to_string(q[i]));
     poses.resize(num_links_);
     if (num_links_ > 0) poses[0].setIdentity();
     for (const Joint& j : joints_)

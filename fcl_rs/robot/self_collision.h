@@ -113,7 +113,8 @@ public:
   /// The colliding pairs at configuration q (in the order of pairs()). When stats is given, the BV and
   /// triangle tests of the mesh-mesh queries are added to it.
   std::vector<LinkPair> check(const fcl::VectorX<S>& q, QueryStats* stats = nullptr);
-  /// The same at given link poses, one per link (as Kinematics::linkPoses returns them).
+  /// The same at given link poses, one per link (as Kinematics::linkPoses returns them). Throws
+  /// std::invalid_argument naming poses[i] when a pose is not a rigid transform (fcl_rs/validate.h).
   std::vector<LinkPair> checkPoses(const std::vector<fcl::Transform3<S>>& poses, QueryStats* stats = nullptr);
   /// Whether any pair collides at q; stops at the first colliding pair (the query a planner makes).
   bool inCollision(const fcl::VectorX<S>& q);

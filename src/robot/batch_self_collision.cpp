@@ -1,6 +1,7 @@
 // selfCollisionBatch: SelfCollision::query per row, each row writing its own slots.
 #include "fcl_rs/robot/batch_self_collision.h"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -16,6 +17,13 @@ SelfCollisionBatchResult<S> selfCollisionBatch(const SelfCollision<S>& checker,
     throw std::invalid_argument("fcl_rs::selfCollisionBatch: configurations have " +
                                 std::to_string(configurations.cols()) + " columns, the robot has " +
                                 std::to_string(dof) + " joint variables");
+  // Validated once for the whole array (each query's own check then never fails), so that a bad row is named.
+  if (!configurations.allFinite())
+    for (Eigen::Index i = 0; i < configurations.rows(); ++i)
+      for (Eigen::Index j = 0; j < configurations.cols(); ++j)
+        if (!std::isfinite(configurations(i, j)))
+          throw std::invalid_argument("fcl_rs::selfCollisionBatch: configurations[" + std::to_string(i) + ", " +
+                                      std::to_string(j) + "] is not finite: " + std::to_string(configurations(i, j)));
   const std::size_t n = std::size_t(configurations.rows());
   SelfCollisionBatchResult<S> result;
   result.colliding.resize(n);

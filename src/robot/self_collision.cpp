@@ -29,6 +29,7 @@
 #include "fcl_rs/distance.h"
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/collision_traversal.h"
+#include "fcl_rs/validate.h"
 
 namespace fcl_rs {
 
@@ -617,6 +618,7 @@ std::vector<LinkPair> SelfCollision<S>::checkPoses(const std::vector<fcl::Transf
   if (poses.size() != impl_->links.size())
     throw std::invalid_argument("fcl_rs::SelfCollision: " + std::to_string(poses.size()) + " poses for " +
                                 std::to_string(impl_->links.size()) + " links");
+  requireRigidTransforms(poses, "fcl_rs::SelfCollision::checkPoses", "poses");
   impl_->placement.poses = poses;
   return impl_->testPairs(impl_->placement, stats, /*stop_at_first=*/false);
 }
