@@ -61,11 +61,15 @@ long double pointEllipsoid(const LVec& y, const LVec& a)
   if (y.cwiseQuotient(a).squaredNorm() <= 1) return 0;
   const auto F = [&](long double s) {
     long double f = 0;
-    for (int i = 0; i < 3; ++i) f += std::pow(a[i] * y[i] / (s + a[i] * a[i]), 2);
+    for (int i = 0; i < 3; ++i)
+    {
+      const long double x = a[i] * y[i] / (s + a[i] * a[i]);
+      f += x * x;
+    }
     return f;
   };
   long double lo = 0, hi = a.cwiseProduct(y).norm();
-  for (int k = 0; k < 100; ++k)
+  for (int k = 0; k < 80; ++k)
   {
     const long double mid = (lo + hi) / 2;
     (F(mid) > 1 ? lo : hi) = mid;

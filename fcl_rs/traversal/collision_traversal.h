@@ -190,7 +190,10 @@ public:
   bool overlaps(const RS<S>& node) const { return detail::overlap(moved_, node, bv_, kDefaultOverlapTest); }
   /// Widens the test's rounding offsets by TriangleShapeLeaf::boundOffsets, so that it never prunes a triangle the
   /// leaf test reports.
-  void coverLeaves(S offsets) { moved_ = detail::BoxedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_, offsets); }
+  void coverLeaves(S offsets)
+  {
+    moved_ = detail::BoxedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_, offsets);
+  }
 
 private:
   /// bv_in_mesh: the shape's RS in the mesh's frame.
@@ -311,8 +314,11 @@ bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& nod
   node.leaf.emplace(model2, tf1, tf2);
   node.bound = bound ? std::move(bound)
                      : std::make_unique<ShapeBound<typename Shape::S, Shape>>(model2, tf1.inverse(Eigen::Isometry) * tf2);
-  const RS<typename Shape::S>& root = model1.getBV(0).bv;
-  node.bound->coverLeaves(node.leaf->boundOffsets(root.origin.template lpNorm<1>() + 2 * detail::Box<typename Shape::S>(root).reach()));
+  // The mesh's points lie within |origin|_1 + 2 reach of its frame's origin (reach: along the root's own axes).
+  using S = typename Shape::S;
+  const RS<S>& root = model1.getBV(0).bv;
+  const S mesh_reach = root.origin.template lpNorm<1>() + 2 * detail::Box<S>(root).reach();
+  node.bound->coverLeaves(node.leaf->boundOffsets(mesh_reach));
   return true;
 }
 
