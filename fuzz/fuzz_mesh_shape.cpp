@@ -164,7 +164,7 @@ void check(FuzzedDataProvider& in)
     const fcl::Vector3<S> on_mesh = tf1 * (vertices[t[0]] + u * (vertices[t[1]] - vertices[t[0]]) + w * (vertices[t[2]] - vertices[t[0]]));
     Vec n(scaled(in, 0, 0), scaled(in, 0, 0), scaled(in, 0, 0));
     if (!(n.norm() > 0)) n = Vec::UnitZ();
-    tf2.translation() += on_mesh - tf2 * fcl::Vector3<S>(shape.support(n).cast<S>());
+    tf2.translation() += on_mesh - tf2 * fcl::Vector3<S>(shape.support(n).template cast<S>());
   }
   const auto model = fcl_rs::buildModel<fcl_rs::RS<S>>(vertices, triangles);
 

@@ -31,7 +31,6 @@
 #include <fcl/geometry/shape/halfspace.h>
 #include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/sphere.h>
-#include <fcl/narrowphase/detail/primitive_shape_algorithm/triangle_distance.h>
 
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/utility.h>
@@ -191,12 +190,12 @@ inline Closest segmentTriangle(const Vec t[3], const Vec& s0, const Vec& s1)
   return best;
 }
 
-/// Closest points of triangles t and u (on_shape on u): FCL's closed-form triangle distance.
+/// Closest points of triangles t and u (on_shape on u): the mesh-mesh leaf test's distance, which takes zero-area
+/// triangles too (FCL's triDistance returns NaN for a triangle whose vertices coincide).
 inline Closest triangleTriangle(const Vec t[3], const Vec u[3])
 {
-  Closest c;
-  c.distance = fcl::detail::TriangleDistance<double>::triDistance(t, u, c.on_triangle, c.on_shape);
-  return c;
+  const detail::ClosestSoFar<double> c = detail::triangleDistance<double>(t, u, 0);
+  return Closest{std::sqrt(c.sq_distance), c.on_a, c.on_b};
 }
 
 /// Closest points of the triangle and a convex shape given by its support function (the point of the shape
