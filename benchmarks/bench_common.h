@@ -93,7 +93,7 @@ inline std::vector<MeshPair> comparePairs(const std::string& assimp_models_dir, 
   {
     if (!fileExists(f.a) || !fileExists(f.b))
     {
-      std::fprintf(stderr, "note: skipping %s x %s (not found)\n", f.a.c_str(), f.b.c_str());
+      std::printf("note: skipping %s x %s (not found; README.md, 'Data')\n", f.a.c_str(), f.b.c_str());
       continue;
     }
     pairs.push_back({baseName(f.a) + " x " + baseName(f.b), loadMesh<S>(f.a), loadMesh<S>(f.b)});

@@ -3,12 +3,16 @@
 //
 //   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf                 one seeded query on a table-and-shelf scene, with the
 //                                                            path re-checked segment by segment
+//   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf --motions N [STEP]  exact motion checks against discrete ones at
+//                                                            0.01 rad on N seeded segments
 //   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf --benchmark N   N seeded queries per BV type and motion validator,
 //                                                            each BV type in its own process (same OMPL seed), the
 //                                                            searches asserted identical, times compared
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <functional>
@@ -191,7 +195,8 @@ struct QueryStats
   std::string path_digest;  ///< the path's states printed in full precision, hashed
 };
 
-/// Plans one seeded query (start and goal drawn free from `seed`) with a budget of state checks.
+/// Plans one seeded query (start and goal drawn free from `seed`) with a budget of checks (state checks, OMPL's
+/// discrete validator's included, plus motion checks).
 QueryStats plan(const Environment<double>& env, bool exact_motions, std::uint64_t seed, long budget,
                 og::PathGeometric* path_out = nullptr)
 {
@@ -234,7 +239,8 @@ QueryStats plan(const Environment<double>& env, bool exact_motions, std::uint64_
   planner.setup();
   states = Tally();  // the start and goal draws are not the planner's
   const double t0 = threadSeconds();
-  const ob::PlannerStatus status = planner.solve(ob::PlannerTerminationCondition([&] { return states.calls >= budget; }));
+  const ob::PlannerTerminationCondition out_of_budget([&] { return states.calls + motions.calls >= budget; });
+  const ob::PlannerStatus status = planner.solve(out_of_budget);
   QueryStats q;
   q.plan_seconds = threadSeconds() - t0;
   q.solved = status == ob::PlannerStatus::EXACT_SOLUTION;
@@ -336,7 +342,7 @@ int benchmark(const std::string& urdf, const std::string& srdf, int queries, lon
   for (bool exact : {false, true})
   {
     std::cout << (exact ? "fcl_rs exact motion validator" : "OMPL discrete motion validator (default resolution)")
-              << ", " << queries << " RRTConnect queries, budget " << budget << " state checks each\n";
+              << ", " << queries << " RRTConnect queries, budget " << budget << " state + motion checks each\n";
     std::cout << "  BV      solved  state checks  motion checks  plan s   state us  motion us  plan / RS\n";
     std::string reference;
     double rs_plan = 0;
@@ -362,16 +368,64 @@ int benchmark(const std::string& urdf, const std::string& srdf, int queries, lon
   return identical ? 0 : 1;
 }
 
+/// Exact motion checks against discrete checks at `resolution` radians (every joint moves at most that much between
+/// two checked configurations, first contact stops), on seeded segments from free configurations, `step` radians
+/// per joint at most. Reports the CPU time of each and the segments the discrete check calls free but the exact
+/// check does not.
+int compareMotions(const std::string& urdf, const std::string& srdf, int count, double step, double resolution)
+{
+  const fcl_rs::RobotModel robot = fcl_rs::loadUrdf(urdf);
+  Environment<double> env(robot, fcl_rs::BVType::kRS, fcl_rs::loadDisabledCollisions(srdf, robot));
+  addScene(env, reachOf(robot));
+  const fcl_rs::Kinematics<double>& kin = env.kinematics();
+  std::mt19937_64 rng(20261126);
+  std::uniform_real_distribution<double> u(-step, step);
+  double exact_seconds = 0, discrete_seconds = 0;
+  long discrete_states = 0, exact_colliding = 0, discrete_colliding = 0, missed = 0, wrong = 0;
+  for (int i = 0; i < count; ++i)
+  {
+    Eigen::VectorXd from = kin.randomConfiguration(rng);
+    while (env.query(from).colliding) from = kin.randomConfiguration(rng);
+    Eigen::VectorXd to = from;
+    for (int v = 0; v < to.size(); ++v) to[v] = std::clamp(to[v] + u(rng), kin.lower()[v], kin.upper()[v]);
+    fcl_rs::MotionRequest<double> request;
+    request.earliest = false;
+    double t0 = threadSeconds();
+    const bool exact = env.checkMotion(from, to, request).colliding;
+    exact_seconds += threadSeconds() - t0;
+    t0 = threadSeconds();
+    const int n = std::max(1, int(std::ceil((to - from).cwiseAbs().maxCoeff() / resolution)));
+    bool discrete = false;
+    for (int k = 1; k <= n && !discrete; ++k, ++discrete_states)
+      discrete = env.query(from + (double(k) / n) * (to - from)).colliding;
+    discrete_seconds += threadSeconds() - t0;
+    exact_colliding += exact;
+    discrete_colliding += discrete;
+    missed += exact && !discrete;
+    wrong += discrete && !exact;  // would break the exact check's guarantee
+  }
+  std::printf("%s: %d segments (each joint within +-%.2f rad), RS\n", robot.name.c_str(), count, step);
+  std::printf("  exact motion check:             %9.1f us per segment, %ld colliding\n", 1e6 * exact_seconds / count,
+              exact_colliding);
+  std::printf("  discrete at %.3f rad:           %9.1f us per segment, %ld colliding, %.1f states per segment\n",
+              resolution, 1e6 * discrete_seconds / count, discrete_colliding, double(discrete_states) / count);
+  std::printf("  colliding segments the discrete check calls free: %ld; the reverse (must be 0): %ld\n", missed, wrong);
+  return wrong == 0 ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
 {
   if (argc < 3)
   {
-    std::cerr << "usage: " << argv[0] << " ROBOT.urdf ROBOT.srdf [--benchmark QUERIES [BUDGET]]\n";
+    std::cerr << "usage: " << argv[0]
+              << " ROBOT.urdf ROBOT.srdf [--benchmark QUERIES [BUDGET] | --motions SEGMENTS [STEP]]\n";
     return 2;
   }
   const std::string urdf = argv[1], srdf = argv[2];
+  if (argc >= 5 && std::strcmp(argv[3], "--motions") == 0)
+    return compareMotions(urdf, srdf, std::stoi(argv[4]), argc >= 6 ? std::stod(argv[5]) : 0.5, 0.01);
   if (argc >= 5 && std::strcmp(argv[3], "--benchmark") == 0)
     return benchmark(urdf, srdf, std::stoi(argv[4]), argc >= 6 ? std::stol(argv[5]) : 100000);
 

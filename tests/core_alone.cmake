@@ -7,10 +7,14 @@ foreach(var BUILD_DIR SOURCE_DIR)
 endforeach()
 set(work "${BUILD_DIR}/core_alone_test")
 file(REMOVE_RECURSE "${work}")
+# The options of README's packaging command, here for a shared library.
+file(READ "${SOURCE_DIR}/README.md" readme)
+if(NOT readme MATCHES "A packaging or colcon build of the core alone:[^`]*```sh\n([^`]*)```")
+  message(FATAL_ERROR "README.md has no packaging command for the core alone")
+endif()
+string(REGEX MATCHALL "-D[A-Z_]+=[A-Z]+" options "${CMAKE_MATCH_1}")
 execute_process(
-  COMMAND ${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${work}" -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF
-          -DFCL_RS_BUILD_HULL=OFF -DFCL_RS_BUILD_ROBOT=OFF -DFCL_RS_BUILD_TOOLS=OFF -DFCL_RS_BUILD_EXAMPLES=OFF
-          -DFCL_RS_BUILD_BENCHMARKS=OFF -DFCL_RS_BUILD_EXPERIMENTS=OFF -DFCL_RS_BUILD_BATCH=OFF
+  COMMAND ${CMAKE_COMMAND} -S "${SOURCE_DIR}" -B "${work}" -DCMAKE_BUILD_TYPE=Release ${options} -DBUILD_SHARED_LIBS=ON
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "the core alone does not configure:\n${out}")
@@ -29,4 +33,10 @@ file(STRINGS "${work}/Makefile" core REGEX "^fcl_rs:")
 if(core STREQUAL "")
   message(FATAL_ERROR "the core alone has no fcl_rs target")
 endif()
-message(STATUS "core alone: configured with FCL, libccd, Eigen and assimp only")
+# A shared libfcl_rs links assimp itself: its users' links need not name it (pkg-config --static still does).
+file(STRINGS "${work}/fcl_rs.pc" requires REGEX "^Requires")
+if(NOT requires STREQUAL "Requires: eigen3 ccd;Requires.private: assimp")
+  message(FATAL_ERROR "the shared core's fcl_rs.pc requires: ${requires}")
+endif()
+string(REPLACE ";" " " options "${options}")
+message(STATUS "core alone: README's options ${options}; configured with FCL, libccd, Eigen and assimp only")

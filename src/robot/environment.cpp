@@ -41,7 +41,8 @@ void validateConfiguration(const fcl::VectorX<S>& q, int dof, const char* what)
   if (q.size() != dof)
     throw std::invalid_argument(std::string("fcl_rs::Environment: ") + what + " has " + std::to_string(q.size()) +
                                 " values, the robot has " + std::to_string(dof) + " joint variables");
-  if (!q.allFinite()) throw std::invalid_argument(std::string("fcl_rs::Environment: ") + what + " has a non-finite value");
+  if (!q.allFinite())
+    throw std::invalid_argument(std::string("fcl_rs::Environment: ") + what + " has a non-finite value");
 }
 
 /// A body's elements in its own frame and a ball about them (the link's, or an obstacle's AABB ball).
@@ -276,7 +277,8 @@ struct Environment<S>::Impl
   int require(const std::string& name, const char* caller) const
   {
     const int i = find(name);
-    if (i < 0) throw std::invalid_argument(std::string("fcl_rs::Environment::") + caller + ": no obstacle named '" + name + "'");
+    if (i < 0)
+      throw std::invalid_argument(std::string("fcl_rs::Environment::") + caller + ": no obstacle named '" + name + "'");
     return i;
   }
 
