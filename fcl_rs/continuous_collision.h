@@ -16,18 +16,31 @@
 namespace fcl_rs {
 
 /// Same overloads and meaning as fcl::continuousCollide. Pairs without an RS mesh are passed to
-/// fcl::continuousCollide unchanged, except in naive mode. Every pair supports FCL's naive mode (CCDC_NAIVE, the
-/// default): the motions are sampled at n = min(num_max_iterations, ceil(1 / toc_err)) evenly spaced times
-/// (at least the two ends; FCL divides by zero for n = 1) and the first sample where fcl_rs::collide finds a
-/// contact is the time of contact. Unlike FCL's naive mode, request.gjk_solver_type is passed on.
+/// fcl::continuousCollide unchanged, except in naive mode. Pairs with an RS mesh (against an RS mesh or a
+/// primitive shape, either order) support two modes:
+///  * CCDC_NAIVE (the default, run here for every pair): the motions are sampled at n = min(num_max_iterations, ceil(1 / toc_err))
+///    evenly spaced times (at least the two ends; FCL divides by zero for n = 1) and the first sample where
+///    fcl_rs::collide finds a contact is the time of contact. Unlike FCL's naive mode, request.gjk_solver_type
+///    is passed on.
+///  * CCDC_CONSERVATIVE_ADVANCEMENT, for FCL's translation, linear interpolation, screw and spline motions:
+///    from t = 0, the exact distance d (fcl_rs::distance; a vertex scan against planes and halfspaces) and an
+///    upper bound v on the speed of every point of either object (over the whole motion: linear speed of the
+///    object's bounding-ball centre plus angular speed times its radius) allow a step of d / v with no
+///    contact possible before it; each step is shortened by toc_err / 2 to absorb the distance's own error
+///    (GJK's tolerance for shapes). It stops with a contact once d <= v * toc_err: the time of contact is
+///    never later than the true first contact, and a contact is reported only when the objects are within
+///    v * toc_err of each other (toc_err times the largest distance a point can travel), so a free motion
+///    with more clearance than that is reported free. num_max_iterations is not used (FCL's advancement has
+///    no limit either); at most 2 / toc_err steps are taken.
+///    FCL's own advancement (RSS and OBBRSS) can be late or miss a contact (FCL issues 120 and 555):
+///    tests/test_continuous_collision.cpp counts where, on the same motions.
 /// The transform overloads need S = double with linear and screw motions: FCL 0.7's InterpMotion and
-/// ScrewMotion declare integrate(double), so for float they are abstract classes and do not compile.
+/// ScrewMotion declare integrate(double), so for float they are abstract classes and do not compile. They
+/// throw for CCDM_SPLINE: FCL 0.7's SplineMotion(tf1, tf2) leaves its control points uninitialized.
 /// Poses (the transforms, or the motions' ends) must be rigid and the request valid (fcl_rs/validate.h), else
 /// std::invalid_argument names the argument. For RS meshes the other modes throw std::invalid_argument, since
 /// FCL cannot run them on RS (and on plain FCL they
 /// report "no collision" for RS meshes, silently):
-///  * CCDC_CONSERVATIVE_ADVANCEMENT dispatches through a table hidden in libfcl.so, and FCL bounds a node's
-///    motion (TBVMotionBoundVisitor) only for RSS; every other BV gets a bound of 0, i.e. "does not move".
 ///  * CCDC_POLYNOMIAL_SOLVER switches over FCL's own BV types only; its traversal also tests the models'
 ///    BVs as if they were in the world frame (the poses are ignored) and overwrites the caller's vertices.
 ///  * CCDC_RAY_SHOOTING is not implemented in FCL 0.7 for any pair.
@@ -35,6 +48,22 @@ template <typename S>
 S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::MotionBase<S>* motion1,
                     const fcl::CollisionGeometry<S>* o2, const fcl::MotionBase<S>* motion2,
                     const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result);
+
+namespace detail {
+/// CCDC_CONSERVATIVE_ADVANCEMENT for a pair with an RS mesh (src/conservative_advancement.cpp).
+template <typename S>
+S conservativeAdvancement(const fcl::CollisionGeometry<S>* o1, const fcl::MotionBase<S>* motion1,
+                          const fcl::CollisionGeometry<S>* o2, const fcl::MotionBase<S>* motion2,
+                          const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result);
+#define FCL_RS_DECLARE_CONSERVATIVE_ADVANCEMENT(S)                                                             \
+  extern template S conservativeAdvancement<S>(const fcl::CollisionGeometry<S>*, const fcl::MotionBase<S>*,    \
+                                               const fcl::CollisionGeometry<S>*, const fcl::MotionBase<S>*,    \
+                                               const fcl::ContinuousCollisionRequest<S>&,                       \
+                                               fcl::ContinuousCollisionResult<S>&);
+FCL_RS_DECLARE_CONSERVATIVE_ADVANCEMENT(float)
+FCL_RS_DECLARE_CONSERVATIVE_ADVANCEMENT(double)
+#undef FCL_RS_DECLARE_CONSERVATIVE_ADVANCEMENT
+}  // namespace detail
 
 template <typename S>
 S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1_beg,
@@ -48,6 +77,10 @@ S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S
   requireRigidTransform(tf2_beg, api, "tf2_beg");
   requireRigidTransform(tf2_end, api, "tf2_end");
   requireValidRequest(request, api);
+  if (request.ccd_motion_type == fcl::CCDM_SPLINE)
+    throw std::invalid_argument(
+        "fcl_rs::continuousCollide: FCL 0.7 cannot make a spline motion from two transforms (SplineMotion(tf1, "
+        "tf2) leaves its control points uninitialized); pass fcl::SplineMotion objects built from control points");
   const fcl::MotionBasePtr<S> motion1 = fcl::getMotionBase(tf1_beg, tf1_end, request.ccd_motion_type);
   const fcl::MotionBasePtr<S> motion2 = fcl::getMotionBase(tf2_beg, tf2_end, request.ccd_motion_type);
   return fcl_rs::continuousCollide(o1, motion1.get(), o2, motion2.get(), request, result);
@@ -97,9 +130,7 @@ S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::MotionBase<S
   {
     case fcl::CCDC_NAIVE: break;
     case fcl::CCDC_CONSERVATIVE_ADVANCEMENT:
-      throw std::invalid_argument(
-          "fcl_rs::continuousCollide: conservative advancement is not supported for RS meshes (FCL dispatches it "
-          "through a table hidden in libfcl.so and bounds node motion for RSS only); use CCDC_NAIVE");
+      return detail::conservativeAdvancement(o1, motion1, o2, motion2, request, result);
     case fcl::CCDC_POLYNOMIAL_SOLVER:
       throw std::invalid_argument(
           "fcl_rs::continuousCollide: the polynomial solver is not supported for RS meshes (FCL's switch has no RS "

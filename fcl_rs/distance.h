@@ -12,18 +12,21 @@
 namespace fcl_rs {
 
 /// Same overloads and meaning as fcl::distance. Pairs with a BVHModel<RS<S>> (mesh-mesh, and mesh
-/// against Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder or Convex in either order) are handled here;
+/// against Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder, Convex or TriangleP in either order) are handled
+/// here (TriangleP beyond FCL, which has no mesh-TriangleP entry);
 /// every other pair is passed to fcl::distance unchanged. Mesh-Plane and mesh-Halfspace throw: FCL's
 /// own version of them crashes inside libccd.
 ///
 /// As in FCL: a shape given first is swapped behind the mesh, so result.o1, b1 and nearest_points[0]
-/// then refer to the mesh; nearest points are in the world frame; a colliding mesh pair reports 0, and
+/// then refer to the mesh; nearest points are in the world frame; a colliding pair reports what FCL's
+/// OBBRSS reports for it (mesh-mesh, mesh-sphere and mesh-TriangleP 0, mesh and any
+/// other shape -1; docs/distance.md), and
 /// with enable_signed_distance a negative distance is replaced by minus the deepest contact's
 /// penetration (found by fcl_rs::collide). Unlike FCL's oriented trees, request.rel_err and abs_err
 /// are honoured: the result is within (1 + rel_err) times and abs_err of the true distance.
 /// fcl::distance cannot reach RS (its dispatch table is hidden inside libfcl.so) and would return
 /// max(); this function never does. An RS mesh against anything it cannot handle (another BV type's
-/// mesh, an octree, a TriangleP, a point cloud) throws std::invalid_argument naming the pair. So does bad
+/// mesh, an octree, a point cloud) throws std::invalid_argument naming the pair. So does bad
 /// input, for every pair, before any test (fcl_rs/validate.h): a pose that is not a rigid transform, naming the
 /// argument; an invalid request field (rel_err, abs_err, distance_tolerance, gjk_solver_type), naming the field.
 template <typename S>

@@ -3,7 +3,9 @@
 #include "validated_entries.h"
 #include "fcl_rs/collide.h"
 
+#include <limits>
 #include <sstream>
+#include <vector>
 #include <stdexcept>
 
 #include <fcl/narrowphase/collision.h>
@@ -79,6 +81,46 @@ std::size_t meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::
   }
 }
 
+template <typename S>
+std::size_t meshMesh(const fcl::BVHModel<RS<S>>& m1, const fcl::Transform3<S>& tf1, const fcl::BVHModel<RS<S>>& m2,
+                     const fcl::Transform3<S>& tf2, const fcl::CollisionRequest<S>& request,
+                     fcl::CollisionResult<S>& result)
+{
+  if (request.isSatisfied(result)) return result.numContacts();
+  MeshCollisionTraversalNodeRS<S> node;
+  initialize(node, m1, tf1, m2, tf2, request, result);
+  collideTrees(node);
+  return result.numContacts();
+}
+
+/// The triangle as a one-triangle mesh; its contacts then name it as FCL names a shape (o2, b2 = NONE).
+template <typename S>
+std::size_t meshTriangle(const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<S>& tf_mesh,
+                         const fcl::TriangleP<S>& triangle, const fcl::Transform3<S>& tf_triangle,
+                         const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+{
+  const std::size_t before = result.numContacts();
+  const auto triangle_mesh = detail::triangleAsMesh(triangle);
+  meshMesh(mesh, tf_mesh, *triangle_mesh, tf_triangle, request, result);
+  if (result.numContacts() == before) return before;
+  std::vector<fcl::Contact<S>> contacts;
+  result.getContacts(contacts);
+  std::vector<fcl::CostSource<S>> costs;
+  result.getCostSources(costs);
+  result.clear();
+  for (std::size_t i = 0; i < contacts.size(); ++i)
+  {
+    if (i >= before)
+    {
+      contacts[i].o2 = &triangle;
+      contacts[i].b2 = fcl::Contact<S>::NONE;
+    }
+    result.addContact(contacts[i]);
+  }
+  for (const auto& cost : costs) result.addCostSource(cost, std::numeric_limits<std::size_t>::max());
+  return result.numContacts();
+}
+
 template <typename S, typename Solver>
 std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
                       const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2, const Solver* solver,
@@ -88,23 +130,20 @@ std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3
   const auto* m2 = asRSMesh(o2);
   if (m1) detail::requireBuiltTriangles(kApi, *m1);
   if (m2) detail::requireBuiltTriangles(kApi, *m2);
-  if (m1 && m2)
-  {
-    if (request.isSatisfied(result)) return result.numContacts();
-    MeshCollisionTraversalNodeRS<S> node;
-    initialize(node, *m1, tf1, *m2, tf2, request, result);
-    collideTrees(node);
-    return result.numContacts();
-  }
+  if (m1 && m2) return meshMesh(*m1, tf1, *m2, tf2, request, result);
   // As in fcl::collide, a shape given first is swapped behind the mesh.
   const bool mesh_first = m1 != nullptr;
   const auto* mesh = mesh_first ? o1 : o2;
   const auto* other = mesh_first ? o2 : o1;
+  const auto& tf_mesh = mesh_first ? tf1 : tf2;
+  const auto& tf_other = mesh_first ? tf2 : tf1;
   if (other->getObjectType() != fcl::OT_GEOM)
     detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
                     "an RS mesh collides with RS meshes and primitive shapes only");
-  return mesh_first ? meshShapeDispatch(mesh, tf1, other, tf2, solver, request, result)
-                    : meshShapeDispatch(mesh, tf2, other, tf1, solver, request, result);
+  if (other->getNodeType() == fcl::GEOM_TRIANGLE)
+    return meshTriangle(mesh_first ? *m1 : *m2, tf_mesh, static_cast<const fcl::TriangleP<S>&>(*other), tf_other,
+                        request, result);
+  return meshShapeDispatch(mesh, tf_mesh, other, tf_other, solver, request, result);
 }
 
 }  // namespace

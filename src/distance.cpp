@@ -95,6 +95,20 @@ void signedDistanceFromContacts(const fcl::CollisionGeometry<S>* o1, const fcl::
   }
 }
 
+/// fcl::detail::orientedMeshDistance, with the descent of distanceTrees.
+template <typename S>
+S meshMesh(const fcl::BVHModel<RS<S>>& m1, const fcl::Transform3<S>& tf1, const fcl::BVHModel<RS<S>>& m2,
+           const fcl::Transform3<S>& tf2, const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+{
+  if (!request.isSatisfied(result))
+  {
+    MeshDistanceTraversalNodeRS<S> node;
+    initialize(node, m1, tf1, m2, tf2, request, result);
+    distanceTrees(node);
+  }
+  return result.min_distance;
+}
+
 template <typename S, typename Solver>
 S distanceRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1, const fcl::CollisionGeometry<S>* o2,
              const fcl::Transform3<S>& tf2, const Solver* solver, const fcl::DistanceRequest<S>& request,
@@ -107,27 +121,31 @@ S distanceRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
   const S start_distance = result.min_distance;
   S res;
   if (m1 && m2)
-  {
-    // fcl::detail::orientedMeshDistance, with the descent of distanceTrees.
-    if (!request.isSatisfied(result))
-    {
-      MeshDistanceTraversalNodeRS<S> node;
-      initialize(node, *m1, tf1, *m2, tf2, request, result);
-      distanceTrees(node);
-    }
-    res = result.min_distance;
-  }
+    res = meshMesh(*m1, tf1, *m2, tf2, request, result);
   else
   {
     // As in fcl::distance, a shape given first is swapped behind the mesh (and the result is not swapped back).
     const bool mesh_first = m1 != nullptr;
     const auto* mesh = mesh_first ? o1 : o2;
     const auto* other = mesh_first ? o2 : o1;
+    const auto& tf_mesh = mesh_first ? tf1 : tf2;
+    const auto& tf_other = mesh_first ? tf2 : tf1;
     if (other->getObjectType() != fcl::OT_GEOM)
       detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
                       "an RS mesh measures distance to RS meshes and primitive shapes only");
-    res = mesh_first ? meshShapeDispatch(mesh, tf1, other, tf2, solver, request, result)
-                     : meshShapeDispatch(mesh, tf2, other, tf1, solver, request, result);
+    if (other->getNodeType() == fcl::GEOM_TRIANGLE)
+    {
+      // The triangle as a one-triangle mesh, named in the result as FCL names a shape (o2, b2 = NONE).
+      const auto triangle_mesh = detail::triangleAsMesh(static_cast<const fcl::TriangleP<S>&>(*other));
+      res = meshMesh(mesh_first ? *m1 : *m2, tf_mesh, *triangle_mesh, tf_other, request, result);
+      if (result.o2 == triangle_mesh.get())
+      {
+        result.o2 = other;
+        result.b2 = fcl::DistanceResult<S>::NONE;
+      }
+    }
+    else
+      res = meshShapeDispatch(mesh, tf_mesh, other, tf_other, solver, request, result);
   }
   // Only when this query made the distance negative: a result shared by several queries (the broadphase
   // callbacks) may hold an earlier pair's negative distance.

@@ -8,8 +8,10 @@
 #include <string>
 
 #include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/shape/triangle_p.h>
 
 #include "fcl_rs/bv/rs.h"
+#include "fcl_rs/bvh/build_model.h"
 
 namespace fcl_rs {
 namespace detail {
@@ -35,6 +37,14 @@ void requireBuiltTriangles(const char* api, const fcl::BVHModel<RS<S>>& m)
     throw std::invalid_argument(std::string(api) + ": an RS model must be a triangle mesh (BVH_MODEL_TRIANGLES)");
   if (m.build_state != fcl::BVH_BUILD_STATE_PROCESSED && m.build_state != fcl::BVH_BUILD_STATE_UPDATED)
     throw std::invalid_argument(std::string(api) + ": an RS model's tree is not built (call endModel() first)");
+}
+
+/// A TriangleP as a one-triangle RS mesh in the triangle's own frame: mesh-TriangleP pairs run the mesh-mesh
+/// triangle tests (FCL's libccd solver has no TriangleP support function, and FCL no mesh-TriangleP entry).
+template <typename S>
+std::shared_ptr<fcl::BVHModel<RS<S>>> triangleAsMesh(const fcl::TriangleP<S>& triangle)
+{
+  return buildModel<RS<S>>({triangle.a, triangle.b, triangle.c}, {fcl::Triangle(0, 1, 2)});
 }
 
 }  // namespace detail

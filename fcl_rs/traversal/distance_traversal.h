@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -314,11 +315,16 @@ public:
   std::optional<TriangleShapeLeaf<Shape>> leaf;
 
 private:
+  /// A triangle that meets the shape reports -1 (FCL's convention for its shape-triangle distances), except
+  /// against a sphere without enable_signed_distance: 0, what FCL's sphere-triangle distance leaves in practice
+  /// (it writes nothing there) and its mesh-mesh distance reports while colliding.
   void triangleDistance(int primitive_id) const
   {
+    constexpr bool sphere = std::is_same<Shape, fcl::Sphere<S>>::value;
     const auto t = triangleVertices(this->vertices, this->tri_indices[primitive_id]);
     fcl::Vector3<S> on_mesh, on_shape;
-    const S d = leaf->distance(t.data(), on_mesh, on_shape);
+    S d = leaf->distance(t.data(), on_mesh, on_shape);
+    if (d < 0 && sphere && !this->request.enable_signed_distance) d = 0;
     this->result->update(d, this->model1, this->model2, primitive_id, fcl::DistanceResult<S>::NONE, on_mesh, on_shape);
   }
 };

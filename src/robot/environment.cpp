@@ -16,33 +16,25 @@
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/collide.h"
 #include "fcl_rs/distance.h"
+#include "fcl_rs/validate.h"
 
 namespace fcl_rs {
 
 namespace {
 
+constexpr const char* kApi = "fcl_rs::Environment";
+
 template <typename S>
 using Tf = fcl::Transform3<S>;
-
-/// Throws std::invalid_argument unless tf is finite and its linear part a rotation (to float's rounding).
-template <typename S>
-void validatePose(const Tf<S>& tf, const std::string& what)
-{
-  const bool finite = tf.matrix().allFinite();
-  const fcl::Matrix3<S> r = tf.linear();
-  const S tolerance = std::is_same<S, float>::value ? S(1e-4) : S(1e-9);
-  if (!finite || !(r.transpose() * r).isApprox(fcl::Matrix3<S>::Identity(), tolerance) || r.determinant() <= 0)
-    throw std::invalid_argument("fcl_rs::Environment: " + what + " is not a finite rigid transform");
-}
 
 template <typename S>
 void validateConfiguration(const fcl::VectorX<S>& q, int dof, const char* what)
 {
   if (q.size() != dof)
-    throw std::invalid_argument(std::string("fcl_rs::Environment: ") + what + " has " + std::to_string(q.size()) +
+    throw std::invalid_argument(std::string(kApi) + ": " + what + " has " + std::to_string(q.size()) +
                                 " values, the robot has " + std::to_string(dof) + " joint variables");
   if (!q.allFinite())
-    throw std::invalid_argument(std::string("fcl_rs::Environment: ") + what + " has a non-finite value");
+    throw std::invalid_argument(std::string(kApi) + ": " + what + " has a non-finite value");
 }
 
 /// A body's elements in its own frame and a ball about them (the link's, or an obstacle's AABB ball).
@@ -652,7 +644,7 @@ void Environment<S>::addShape(const std::string& name, std::shared_ptr<fcl::Coll
       throw std::invalid_argument("fcl_rs::Environment::addShape: obstacle '" + name +
                                   "' is not a box, sphere, cylinder, capsule, cone, ellipsoid or convex shape");
   }
-  validatePose(pose, "the pose of obstacle '" + name + "'");
+  requireRigidTransform(pose, kApi, ("the pose of obstacle '" + name + "'").c_str());
   impl_->add(name, std::move(shape), pose);
 }
 
@@ -660,7 +652,7 @@ template <typename S>
 void Environment<S>::addMesh(const std::string& name, const TriangleMesh<S>& mesh, const fcl::Transform3<S>& pose)
 {
   impl_->checkNewName(name);
-  validatePose(pose, "the pose of obstacle '" + name + "'");
+  requireRigidTransform(pose, kApi, ("the pose of obstacle '" + name + "'").c_str());
   impl_->add(name, buildTree<S>(impl_->bv, mesh), pose);
 }
 
@@ -668,7 +660,7 @@ template <typename S>
 void Environment<S>::setPose(const std::string& name, const fcl::Transform3<S>& pose)
 {
   const int i = impl_->require(name, "setPose");
-  validatePose(pose, "the pose of obstacle '" + name + "'");
+  requireRigidTransform(pose, kApi, ("the pose of obstacle '" + name + "'").c_str());
   auto& o = impl_->obstacles[i];
   o.pose = pose;
   o.sphere = place(o.body, pose);
