@@ -22,7 +22,7 @@ namespace fcl_rs {
 /// cloud) throws std::invalid_argument naming the pair. So does bad input, for every pair, before any test
 /// (fcl_rs/validate.h): a pose that is not a rigid transform (NaN or infinite entries, a rotation that is not
 /// orthonormal, a reflection), naming tf1, tf2 or o1->getTransform(), o2->getTransform(); an invalid request
-/// field (num_max_contacts 0, gjk_tolerance, gjk_solver_type), naming the field.
+/// field (num_max_contacts 0, gjk_tolerance, cached_gjk_guess), naming the field.
 template <typename S>
 std::size_t collide(const fcl::CollisionObject<S>* o1, const fcl::CollisionObject<S>* o2,
                     const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result);

@@ -14,8 +14,8 @@ namespace fcl_rs {
 /// Same overloads and meaning as fcl::distance. Pairs with a BVHModel<RS<S>> (mesh-mesh, and mesh
 /// against Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder, Convex or TriangleP in either order) are handled
 /// here (TriangleP beyond FCL, which has no mesh-TriangleP entry);
-/// every other pair is passed to fcl::distance unchanged. Mesh-Plane and mesh-Halfspace throw: FCL's
-/// own version of them crashes inside libccd.
+/// every other pair is passed to fcl::distance unchanged, except that any pair with a Plane or a Halfspace
+/// throws std::invalid_argument: FCL's own distance for them calls a null support function (a crash).
 ///
 /// As in FCL: a shape given first is swapped behind the mesh, so result.o1, b1 and nearest_points[0]
 /// then refer to the mesh; nearest points are in the world frame; a colliding pair reports what FCL's
@@ -28,7 +28,7 @@ namespace fcl_rs {
 /// max(); this function never does. An RS mesh against anything it cannot handle (another BV type's
 /// mesh, an octree, a point cloud) throws std::invalid_argument naming the pair. So does bad
 /// input, for every pair, before any test (fcl_rs/validate.h): a pose that is not a rigid transform, naming the
-/// argument; an invalid request field (rel_err, abs_err, distance_tolerance, gjk_solver_type), naming the field.
+/// argument; an invalid request field (rel_err, abs_err, distance_tolerance), naming the field.
 template <typename S>
 S distance(const fcl::CollisionObject<S>* o1, const fcl::CollisionObject<S>* o2,
            const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result);

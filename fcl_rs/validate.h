@@ -132,62 +132,39 @@ void requireNonNegative(const char* api, const char* field, S value)
     badRequestField(api, field, "must be non-negative and finite, got " + valueText(value));
 }
 
-inline void requireSolverType(const char* api, fcl::GJKSolverType type)
-{
-  if (type != fcl::GST_LIBCCD && type != fcl::GST_INDEP)
-    badRequestField(api, "gjk_solver_type", "is not GST_LIBCCD or GST_INDEP: " + std::to_string(int(type)));
-}
-
 }  // namespace detail
 
+// The enum fields (solver and motion types) are not checked: a value outside an enum's enumerators cannot be
+// stored in it without undefined behaviour.
+
 /// Throws std::invalid_argument naming the field: num_max_contacts 0 (a request for nothing, which FCL answers
-/// "no collision" whatever the objects do), an unknown gjk_solver_type, gjk_tolerance not positive and finite,
-/// a non-finite cached_gjk_guess in use.
+/// "no collision" whatever the objects do), gjk_tolerance not positive and finite, a non-finite
+/// cached_gjk_guess in use.
 template <typename S>
 void requireValidRequest(const fcl::CollisionRequest<S>& request, const char* api)
 {
   if (request.num_max_contacts == 0) detail::badRequestField(api, "num_max_contacts", "must be at least 1, got 0");
-  detail::requireSolverType(api, request.gjk_solver_type);
   detail::requirePositive(api, "gjk_tolerance", request.gjk_tolerance);
   if (request.enable_cached_gjk_guess && !request.cached_gjk_guess.allFinite())
     detail::badRequestField(api, "cached_gjk_guess", "must be finite when enable_cached_gjk_guess is set");
 }
 
-/// Throws std::invalid_argument naming the field: an unknown gjk_solver_type, rel_err or abs_err negative or
-/// not finite, distance_tolerance not positive and finite.
+/// Throws std::invalid_argument naming the field: rel_err or abs_err negative or not finite, distance_tolerance
+/// not positive and finite.
 template <typename S>
 void requireValidRequest(const fcl::DistanceRequest<S>& request, const char* api)
 {
-  detail::requireSolverType(api, request.gjk_solver_type);
   detail::requireNonNegative(api, "rel_err", request.rel_err);
   detail::requireNonNegative(api, "abs_err", request.abs_err);
   detail::requirePositive(api, "distance_tolerance", request.distance_tolerance);
 }
 
-/// Throws std::invalid_argument naming the field: num_max_iterations 0, toc_err not positive and finite, an
-/// unknown gjk_solver_type, ccd_motion_type or ccd_solver_type.
+/// Throws std::invalid_argument naming the field: num_max_iterations 0, toc_err not positive and finite.
 template <typename S>
 void requireValidRequest(const fcl::ContinuousCollisionRequest<S>& request, const char* api)
 {
   if (request.num_max_iterations == 0) detail::badRequestField(api, "num_max_iterations", "must be at least 1, got 0");
   detail::requirePositive(api, "toc_err", request.toc_err);
-  detail::requireSolverType(api, request.gjk_solver_type);
-  switch (request.ccd_motion_type)
-  {
-    case fcl::CCDM_TRANS:
-    case fcl::CCDM_LINEAR:
-    case fcl::CCDM_SCREW:
-    case fcl::CCDM_SPLINE: break;
-    default: detail::badRequestField(api, "ccd_motion_type", "is unknown: " + std::to_string(int(request.ccd_motion_type)));
-  }
-  switch (request.ccd_solver_type)
-  {
-    case fcl::CCDC_NAIVE:
-    case fcl::CCDC_CONSERVATIVE_ADVANCEMENT:
-    case fcl::CCDC_RAY_SHOOTING:
-    case fcl::CCDC_POLYNOMIAL_SOLVER: break;
-    default: detail::badRequestField(api, "ccd_solver_type", "is unknown: " + std::to_string(int(request.ccd_solver_type)));
-  }
 }
 
 }  // namespace fcl_rs

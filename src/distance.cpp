@@ -164,7 +164,28 @@ S distanceValidated(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S
                     const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
 {
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::distance: null collision geometry");
-  if (!asRSMesh(o1) && !asRSMesh(o2)) return fcl::distance(o1, tf1, o2, tf2, request, result);
+  if (!asRSMesh(o1) && !asRSMesh(o2))
+  {
+    // FCL's GJK (both solvers) has no support function for planes and halfspaces: fcl::distance on a shape pair
+    // with one calls a null function (found by fuzz_api), as it does for meshes (meshShapeDispatch).
+    for (const fcl::NODE_TYPE type : {o1->getNodeType(), o2->getNodeType()})
+      if (type == fcl::GEOM_PLANE || type == fcl::GEOM_HALFSPACE)
+        detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
+                                "FCL has no distance to a plane or halfspace (its GJK calls a null support function)");
+    // FCL signs the distance itself only for two shapes under libccd; its fallback for every other pair asserts
+    // (or reads before its contact list) when no contact has a positive depth, as GJKSolver_indep's are (found by
+    // fuzz_api): fcl_rs's fallback, as for RS meshes, runs instead.
+    const bool fcl_signs = request.gjk_solver_type == fcl::GST_LIBCCD && o1->getObjectType() == fcl::OT_GEOM &&
+                           o2->getObjectType() == fcl::OT_GEOM;
+    if (!request.enable_signed_distance || fcl_signs) return fcl::distance(o1, tf1, o2, tf2, request, result);
+    fcl::DistanceRequest<S> unsigned_request(request);
+    unsigned_request.enable_signed_distance = false;
+    const S start_distance = result.min_distance;
+    const S res = fcl::distance(o1, tf1, o2, tf2, unsigned_request, result);
+    if (result.min_distance < 0 && result.min_distance < start_distance)
+      signedDistanceFromContacts(o1, tf1, o2, tf2, request, result);
+    return res;
+  }
   // The same solver set-up as fcl::distance.
   switch (request.gjk_solver_type)
   {

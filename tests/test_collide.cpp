@@ -1073,6 +1073,72 @@ TYPED_TEST(CollideDropIn, UnsupportedPairsThrow)
   EXPECT_THROW(fcl_rs::collide(&rs_obj, &obb_obj, fcl::CollisionRequest<S>(), res), std::invalid_argument);
 }
 
+/// RS mesh vs TriangleP (beyond FCL 0.7, which has no mesh-TriangleP entry): collide's verdict and distance are
+/// the exact oracle's over the mesh's triangles, both orders; contacts and the distance result name the TriangleP
+/// as FCL names a shape (o2, b2 = NONE).
+TYPED_TEST(CollideDropIn, TrianglePMatchesTheExactOracle)
+{
+  using S = TypeParam;
+  const auto sphere = prepare<S>("sphere", fcl_rs::makeSphere<S>(1, 4, 6));
+  const std::string what = "collide/drop-in/trianglep/" + scalarName<S>();
+  auto rng = fcl_rs::test::seededRng(what);
+  int colliding = 0;
+  for (int i = 0; i < 20; ++i)
+  {
+    SCOPED_TRACE(what + " pose #" + std::to_string(i));
+    const fcl::Transform3<S> tf_mesh = fcl_rs::test::randomPose<S>(rng, S(0.3));
+    const fcl::Transform3<S> tf_tri = fcl_rs::test::randomPose<S>(rng, S(1.2));
+    const fcl::TriangleP<S> tri(fcl::Vector3<S>(0, 0, 0), fcl::Vector3<S>(S(0.9), 0, 0), fcl::Vector3<S>(0, S(0.6), S(0.2)));
+    fcl_rs::test::ExactTriangle t;
+    t[0] = (tf_tri * tri.a).template cast<double>();
+    t[1] = (tf_tri * tri.b).template cast<double>();
+    t[2] = (tf_tri * tri.c).template cast<double>();
+    bool exact_hit = false;
+    double exact_distance = std::numeric_limits<double>::max();
+    for (const auto& f : sphere.tri.triangles)
+    {
+      fcl_rs::test::ExactTriangle m;
+      for (int k = 0; k < 3; ++k) m[k] = (tf_mesh * sphere.tri.vertices[f[k]]).template cast<double>();
+      exact_hit = exact_hit || fcl_rs::test::exactlyIntersect(m, t);
+      exact_distance = std::min(exact_distance, fcl_rs::test::exactDistance(m, t));
+    }
+    colliding += exact_hit;
+    for (const bool mesh_first : {true, false})
+    {
+      SCOPED_TRACE(mesh_first ? "mesh first" : "triangle first");
+      const auto req = allContactsRequest<S>(true);
+      fcl::CollisionResult<S> res;
+      if (mesh_first)
+        fcl_rs::collide<S>(sphere.rs.get(), tf_mesh, &tri, tf_tri, req, res);
+      else
+        fcl_rs::collide<S>(&tri, tf_tri, sphere.rs.get(), tf_mesh, req, res);
+      // Touching within rounding may go either way; clear cases must agree.
+      if (exact_distance > 1e-4 || exact_hit) EXPECT_EQ(res.isCollision(), exact_hit) << "distance " << exact_distance;
+      for (std::size_t c = 0; c < res.numContacts(); ++c)
+      {
+        EXPECT_EQ(res.getContact(c).o1, sphere.rs.get());
+        EXPECT_EQ(res.getContact(c).o2, &tri);
+        EXPECT_EQ(res.getContact(c).b2, int(fcl::Contact<S>::NONE));
+      }
+      fcl::DistanceResult<S> dr;
+      const fcl::DistanceRequest<S> dreq(true);
+      if (mesh_first)
+        fcl_rs::distance<S>(sphere.rs.get(), tf_mesh, &tri, tf_tri, dreq, dr);
+      else
+        fcl_rs::distance<S>(&tri, tf_tri, sphere.rs.get(), tf_mesh, dreq, dr);
+      EXPECT_EQ(dr.o2, &tri);
+      EXPECT_EQ(dr.b2, int(fcl::DistanceResult<S>::NONE));
+      const double tol = std::is_same<S, float>::value ? 1e-4 : 1e-9;
+      if (exact_hit)
+        EXPECT_EQ(dr.min_distance, S(0));
+      else
+        EXPECT_NEAR(dr.min_distance, exact_distance, tol * 4);
+    }
+  }
+  EXPECT_GE(colliding, 3);
+  EXPECT_LE(colliding, 17);
+}
+
 TYPED_TEST(CollideDropIn, UnbuiltRSModelThrows)
 {
   using S = TypeParam;

@@ -12,6 +12,8 @@
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/halfspace.h>
+#include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/sphere.h>
 #include <gtest/gtest.h>
 
@@ -139,7 +141,6 @@ TYPED_TEST(Validate, BadRequestsAreRefusedNamingTheField)
   expectMessage(collision([](auto& r) { r.num_max_contacts = 0; }), {"api: request.num_max_contacts"});
   expectMessage(collision([&](auto& r) { r.gjk_tolerance = nan; }), {"api: request.gjk_tolerance", "nan"});
   expectMessage(collision([](auto& r) { r.gjk_tolerance = 0; }), {"api: request.gjk_tolerance"});
-  expectMessage(collision([](auto& r) { r.gjk_solver_type = fcl::GJKSolverType(7); }), {"request.gjk_solver_type"});
   expectMessage(collision([&](auto& r) {
                   r.enable_cached_gjk_guess = true;
                   r.cached_gjk_guess[0] = nan;
@@ -155,7 +156,6 @@ TYPED_TEST(Validate, BadRequestsAreRefusedNamingTheField)
   expectMessage(distance([](auto& r) { r.rel_err = -1; }), {"api: request.rel_err", "-1"});
   expectMessage(distance([&](auto& r) { r.abs_err = nan; }), {"api: request.abs_err"});
   expectMessage(distance([](auto& r) { r.distance_tolerance = -S(1e-6); }), {"api: request.distance_tolerance"});
-  expectMessage(distance([](auto& r) { r.gjk_solver_type = fcl::GJKSolverType(-1); }), {"request.gjk_solver_type"});
 
   const auto continuous = [](const std::function<void(fcl::ContinuousCollisionRequest<S>&)>& change) {
     fcl::ContinuousCollisionRequest<S> request;
@@ -166,8 +166,6 @@ TYPED_TEST(Validate, BadRequestsAreRefusedNamingTheField)
   expectMessage(continuous([](auto& r) { r.num_max_iterations = 0; }), {"request.num_max_iterations"});
   expectMessage(continuous([](auto& r) { r.toc_err = 0; }), {"request.toc_err"});
   expectMessage(continuous([&](auto& r) { r.toc_err = nan; }), {"request.toc_err"});
-  expectMessage(continuous([](auto& r) { r.ccd_motion_type = fcl::CCDMotionType(9); }), {"request.ccd_motion_type"});
-  expectMessage(continuous([](auto& r) { r.ccd_solver_type = fcl::CCDSolverType(9); }), {"request.ccd_solver_type"});
 }
 
 /// Every core entry point refuses every bad pose, in either position, for an RS mesh pair, an RS mesh and a
@@ -280,6 +278,50 @@ TEST(ValidateContinuous, NaiveModeTakesOneIterationAndTinyTocErr)
     fcl::ContinuousCollisionResult<S> result;
     EXPECT_EQ(fcl_rs::continuousCollide<S>(&a, start, end, &b, fixed, fixed, request, result), c.time_of_contact);
     EXPECT_TRUE(result.is_collide);
+  }
+}
+
+/// FCL's distance to a plane or a halfspace calls a null support function (fuzz_api found it for a sphere and a
+/// plane): every such pair is refused, shapes and RS meshes alike, in either order.
+TYPED_TEST(Validate, DistanceToPlanesAndHalfspacesIsRefused)
+{
+  using S = TypeParam;
+  const auto mesh = fcl_rs::buildModel<fcl_rs::RS<S>>(fcl_rs::makeSphere<S>(1, 4, 6));
+  const fcl::Sphere<S> sphere(S(0.5));
+  const fcl::Box<S> box(S(1), S(1), S(1));
+  const fcl::Plane<S> plane(fcl::Vector3<S>(0, 0, 1), 0);
+  const fcl::Halfspace<S> halfspace(fcl::Vector3<S>(0, 1, 0), 0);
+  fcl::Transform3<S> far = fcl::Transform3<S>::Identity();
+  far.translation() << 0, 0, 5;
+  const std::vector<const fcl::CollisionGeometry<S>*> others = {mesh.get(), &sphere, &box, &plane, &halfspace};
+  for (const fcl::CollisionGeometry<S>* flat : {static_cast<const fcl::CollisionGeometry<S>*>(&plane),
+                                                static_cast<const fcl::CollisionGeometry<S>*>(&halfspace)})
+    for (const fcl::CollisionGeometry<S>* other : others)
+    {
+      fcl::DistanceResult<S> result;
+      const fcl::DistanceRequest<S> request;
+      expectMessage([&] { fcl_rs::distance(flat, far, other, fcl::Transform3<S>::Identity(), request, result); },
+                    {"fcl_rs::distance: pair of node types", "halfspace"});
+      expectMessage([&] { fcl_rs::distance(other, far, flat, fcl::Transform3<S>::Identity(), request, result); },
+                    {"fcl_rs::distance: pair of node types", "halfspace"});
+    }
+}
+
+/// Signed distance of two overlapping shapes under either solver: FCL's own fallback asserted under GST_INDEP
+/// (found by fuzz_api); fcl_rs's gives minus the deepest contact's penetration.
+TYPED_TEST(Validate, SignedDistanceOfShapesUnderEitherSolver)
+{
+  using S = TypeParam;
+  const fcl::Sphere<S> a(S(0.5)), b(S(0.5));
+  fcl::Transform3<S> apart = fcl::Transform3<S>::Identity();
+  apart.translation() << S(0.6), 0, 0;
+  for (const fcl::GJKSolverType solver : {fcl::GST_LIBCCD, fcl::GST_INDEP})
+  {
+    fcl::DistanceRequest<S> request(true, /*enable_signed_distance=*/true);
+    request.gjk_solver_type = solver;
+    fcl::DistanceResult<S> result;
+    fcl_rs::distance<S>(&a, fcl::Transform3<S>::Identity(), &b, apart, request, result);
+    EXPECT_NEAR(result.min_distance, S(-0.4), S(1e-3)) << "solver " << int(solver);
   }
 }
 

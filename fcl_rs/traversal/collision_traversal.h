@@ -3,7 +3,6 @@
 #define FCL_RS_TRAVERSAL_H
 
 #include <cstddef>
-#include <memory>
 #include <optional>
 #include <tuple>
 #include <utility>
@@ -11,6 +10,7 @@
 
 #include <fcl/geometry/shape/halfspace.h>
 #include <fcl/geometry/shape/plane.h>
+#include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/detail/traversal/collision/mesh_collision_traversal_node.h>
 #include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
 
@@ -262,6 +262,45 @@ private:
   S offsets_ = 0;
 };
 
+/// A sphere is tested exactly against a node's principal box and diagonal slabs: cheaper than an RS test of
+/// the sphere's volume and tighter (the sphere itself, not a polytope around it).
+template <typename S>
+class ShapeBound<S, fcl::Sphere<S>>
+{
+public:
+  ShapeBound(const fcl::Sphere<S>& shape, const fcl::Transform3<S>& shape_in_mesh)
+    : centre_(shape_in_mesh.translation()), radius_(shape.radius), offset_(centre_.template lpNorm<1>())
+  {
+  }
+  bool overlaps(const RS<S>& node) const
+  {
+    if (node.empty()) return false;
+    const fcl::Vector3<S> y = node.toFrame(centre_);
+    const detail::Box<S> box(node);
+    // As a pair test's: the centre's and the node's offsets, both extents, and the centre's distance from the
+    // node's frame origin, which the stored frame's departure from orthonormality scales.
+    const S tol = detail::pairRoundingBound<S>(node.origin.template lpNorm<1>() + offset_, box.reach() + radius_,
+                                               y.template lpNorm<1>());
+    const fcl::Vector3<S> outside = ((y - box.c).cwiseAbs() - box.h).cwiseMax(S(0));
+    const S reach = radius_ + tol;
+    if (outside.squaredNorm() > reach * reach) return false;
+    for (int k = 3; k < kNumSlabs; ++k)
+    {
+      const S v = projectOnSlab(y, k);
+      if (v + reach < S(node.lo[k]) || v - reach > S(node.hi[k])) return false;
+    }
+    return true;
+  }
+
+  /// As ShapeBound's: the leaf test's tolerance terms join the offsets.
+  void coverLeaves(S offsets) { offset_ += offsets; }
+
+private:
+  fcl::Vector3<S> centre_;  ///< in the mesh's frame
+  S radius_;
+  S offset_;  ///< |centre_|_1
+};
+
 /// Mesh-shape collision in the mesh's frame: the shape is bounded once per query in that frame;
 /// leaves use the exact triangle-shape test (narrowphase/triangle_shape.h), FCL's solver only for contact details.
 template <typename Shape, typename NarrowPhaseSolver>
@@ -285,20 +324,22 @@ public:
                          *this->result);
   }
 
-  std::unique_ptr<ShapeBound<S, Shape>> bound;
+  /// Held by value: a query that visits one or two nodes would otherwise spend a good part of its time in the
+  /// allocator.
+  std::optional<ShapeBound<S, Shape>> bound;
   std::optional<TriangleShapeLeaf<Shape>> leaf;
 };
 
 /// Sets up node for the mesh model1 at tf1 against the shape model2 at tf2; false unless model1 is a triangle
 /// mesh. bound: model2's bound in model1's frame when the caller made it (a shape queried many times is fitted
-/// once, ShapeBound's RS constructor), or nullptr to fit it here.
+/// once, ShapeBound's RS constructor), or none to fit it here.
 template <typename Shape, typename NarrowPhaseSolver>
 bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& node,
                 const fcl::BVHModel<RS<typename Shape::S>>& model1, const fcl::Transform3<typename Shape::S>& tf1,
                 const Shape& model2, const fcl::Transform3<typename Shape::S>& tf2,
                 const NarrowPhaseSolver* nsolver, const fcl::CollisionRequest<typename Shape::S>& request,
                 fcl::CollisionResult<typename Shape::S>& result,
-                std::unique_ptr<ShapeBound<typename Shape::S, Shape>> bound = nullptr)
+                std::optional<ShapeBound<typename Shape::S, Shape>> bound = std::nullopt)
 {
   if (model1.getModelType() != fcl::BVH_MODEL_TRIANGLES) return false;
   node.model1 = &model1;
@@ -312,8 +353,10 @@ bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& nod
   node.result = &result;
   node.cost_density = model1.cost_density * model2.cost_density;
   node.leaf.emplace(model2, tf1, tf2);
-  node.bound = bound ? std::move(bound)
-                     : std::make_unique<ShapeBound<typename Shape::S, Shape>>(model2, tf1.inverse(Eigen::Isometry) * tf2);
+  if (bound)
+    node.bound.emplace(std::move(*bound));
+  else
+    node.bound.emplace(model2, tf1.inverse(Eigen::Isometry) * tf2);
   // The mesh's points lie within |origin|_1 + 2 reach of its frame's origin (reach: along the root's own axes).
   using S = typename Shape::S;
   const RS<S>& root = model1.getBV(0).bv;

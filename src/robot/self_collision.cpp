@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <type_traits>
@@ -161,8 +162,12 @@ private:
     solver.collision_tolerance = request.gjk_tolerance;
     MeshShapeCollisionTraversalNodeRS<Shape, Solver> node;
     fcl::CollisionResult<S> result;
-    initialize(node, *models_[a], ta, static_cast<const Shape&>(*shape.geometry), ts, &solver, request, result,
-               std::make_unique<ShapeBound<S, Shape>>(shape.bv, shape_in_mesh));
+    const Shape& geometry = static_cast<const Shape&>(*shape.geometry);
+    if constexpr (std::is_same<Shape, fcl::Sphere<S>>::value)  // its bound needs no fitted volume
+      initialize(node, *models_[a], ta, geometry, ts, &solver, request, result);
+    else
+      initialize(node, *models_[a], ta, geometry, ts, &solver, request, result,
+                 std::optional<ShapeBound<S, Shape>>(std::in_place, shape.bv, shape_in_mesh));
     collideMeshShape(node);
     return result.isCollision();
   }
