@@ -27,6 +27,7 @@
 #include <gtest/gtest.h>
 
 #include "fcl_rs/fcl_rs.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
 #include "test_util.h"
 
 namespace {
@@ -431,7 +432,42 @@ template <typename S>
 class DistanceMeshShape : public ::testing::Test {};
 TYPED_TEST_SUITE(DistanceMeshShape, fcl_rs::test::Scalars);
 
-TYPED_TEST(DistanceMeshShape, BothOrdersMatchRSS)
+/// The smallest leaf distance over all of the mesh's triangles (TriangleShapeLeaf, judged against the exact oracle
+/// in test_triangle_shape.cpp), -1 if any triangle meets the shape: what the traversal must find.
+template <typename S>
+S bruteForceLeafDistance(const TriangleMesh<S>& mesh, const fcl::Transform3<S>& tf1,
+                         const fcl::CollisionGeometry<S>& shape, const fcl::Transform3<S>& tf2)
+{
+  const auto over = [&](const auto& typed) {
+    const fcl_rs::TriangleShapeLeaf<std::decay_t<decltype(typed)>> leaf(typed, tf1, tf2);
+    S best = std::numeric_limits<S>::max();
+    for (const auto& t : mesh.triangles)
+    {
+      const fcl::Vector3<S> p[3] = {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]};
+      fcl::Vector3<S> a, b;
+      const S d = leaf.distance(p, a, b);
+      if (d < 0) return S(-1);
+      best = std::min(best, d);
+    }
+    return best;
+  };
+  switch (shape.getNodeType())
+  {
+    case fcl::GEOM_BOX: return over(static_cast<const fcl::Box<S>&>(shape));
+    case fcl::GEOM_SPHERE: return over(static_cast<const fcl::Sphere<S>&>(shape));
+    case fcl::GEOM_ELLIPSOID: return over(static_cast<const fcl::Ellipsoid<S>&>(shape));
+    case fcl::GEOM_CAPSULE: return over(static_cast<const fcl::Capsule<S>&>(shape));
+    case fcl::GEOM_CONE: return over(static_cast<const fcl::Cone<S>&>(shape));
+    case fcl::GEOM_CYLINDER: return over(static_cast<const fcl::Cylinder<S>&>(shape));
+    default: throw std::invalid_argument("bruteForceLeafDistance: unexpected shape");
+  }
+}
+
+/// Both argument orders give the leaves' minimum over the whole mesh exactly (the traversal prunes nothing it
+/// needs), -1 exactly when fcl_rs::collide reports the pair, nearest points that realise the distance (point 0 on
+/// the mesh, point 1 on the sphere for the sphere). FCL's RSS answer (its GJK leaves) is only logged: libccd's and
+/// GJKSolver_indep's tolerances put it up to 1e-6 off here (docs/distance.md).
+TYPED_TEST(DistanceMeshShape, BothOrdersFindTheNearestLeaf)
 {
   using S = TypeParam;
   const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.25)));
@@ -443,8 +479,8 @@ TYPED_TEST(DistanceMeshShape, BothOrdersMatchRSS)
       auto rng = fcl_rs::test::seededRng(what);
       const bool sphere = name == "sphere";
       int colliding = 0;
-      double max_rel = 0, max_point_diff = 0, max_off = 0;
-      for (int i = 0; i < 200; ++i)
+      double max_rss = 0, max_off = 0;
+      for (int i = 0; i < 40; ++i)
       {
         SCOPED_TRACE(what + " pose #" + std::to_string(i));
         const fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(1));
@@ -454,8 +490,11 @@ TYPED_TEST(DistanceMeshShape, BothOrdersMatchRSS)
         request.gjk_solver_type = solver;
         const S scale = 2;
         fcl::CollisionResult<S> contact;
-        fcl_rs::collide<S>(torus.rs.get(), tf1, shape.get(), tf2, fcl::CollisionRequest<S>(), contact);
+        fcl::CollisionRequest<S> collision_request;
+        collision_request.gjk_solver_type = solver;
+        fcl_rs::collide<S>(torus.rs.get(), tf1, shape.get(), tf2, collision_request, contact);
         colliding += contact.isCollision();
+        const S brute = bruteForceLeafDistance(torus.tri, tf1, *shape, tf2);
         for (const bool mesh_first : {true, false})
         {
           SCOPED_TRACE(mesh_first ? "mesh first" : "shape first");
@@ -468,44 +507,28 @@ TYPED_TEST(DistanceMeshShape, BothOrdersMatchRSS)
           EXPECT_EQ(rs.o1, torus.rs.get());
           EXPECT_EQ(rs.o2, shape.get());
           EXPECT_EQ(rs.min_distance <= 0, contact.isCollision()) << "distance " << rs.min_distance;
-          // FCL's sphere-triangle distance (both solvers) leaves the distance unwritten on intersection, so FCL's
-          // answer is an uninitialized value (in practice a denormal near 0); RS reports 0, as FCL's mesh-mesh does.
-          if (sphere && contact.isCollision())
-          {
-            EXPECT_EQ(rs.min_distance, S(0));
-            continue;
-          }
+          // A sphere that meets the mesh reports 0 (FCL's sphere-triangle convention, fcl_rs/traversal), others -1.
+          EXPECT_EQ(rs.min_distance, sphere && brute < 0 ? S(0) : brute);
+          if (rs.min_distance <= 0) continue;
           const auto rss = mesh_first ? fclDistance<S>(torus.rss.get(), tf1, shape.get(), tf2, request)
                                       : fclDistance<S>(shape.get(), tf2, torus.rss.get(), tf1, request);
-          EXPECT_EQ(rss.o1, torus.rss.get());
-          max_rel = std::max<double>(max_rel, std::abs(rs.min_distance - rss.min_distance) / scale);
-          EXPECT_TRUE(closeDistances(rs.min_distance, rss.min_distance, scale))
-              << "RS " << rs.min_distance << " vs RSS " << rss.min_distance;
-          if (rs.min_distance <= 0) continue;
-          // Nearest points, world frame: point 0 on the mesh, point 1 on the shape (checked for the sphere), as far
-          // apart as the distance (to GJK's accuracy). Where several triangles share the nearest feature they may
-          // come from another triangle than RSS's, so their difference from RSS's is only logged; FCL returns the
-          // sphere's points in the two objects' own frames, so those are moved to the world frame first.
-          const S gjk_tol = std::is_same<S, float>::value ? S(1e-3) : S(1e-5);
-          const fcl::Vector3<S> rss0 = sphere ? fcl::Vector3<S>(tf1 * rss.nearest_points[0]) : rss.nearest_points[0];
-          const fcl::Vector3<S> rss1 = sphere ? fcl::Vector3<S>(tf2 * rss.nearest_points[1]) : rss.nearest_points[1];
-          max_point_diff = std::max<double>(
-              max_point_diff, std::max((rs.nearest_points[0] - rss0).norm(), (rs.nearest_points[1] - rss1).norm()) / scale);
+          if (rss.min_distance > 0) max_rss = std::max<double>(max_rss, std::abs(rs.min_distance - rss.min_distance) / scale);
+          // Nearest points, world frame: as far apart as the distance, point 0 on the mesh, point 1 on the sphere.
+          const S tol = 16 * std::numeric_limits<S>::epsilon() * scale;
           const S off = distanceToMesh(torus.tri, fcl::Vector3<S>(tf1.inverse(Eigen::Isometry) * rs.nearest_points[0]));
           max_off = std::max<double>(max_off, off / scale);
-          EXPECT_LE(off, gjk_tol * scale) << "nearest point 0 is not on the mesh";
-          EXPECT_NEAR((rs.nearest_points[0] - rs.nearest_points[1]).norm(), rs.min_distance, gjk_tol * scale);
-          if (sphere) {
-            EXPECT_NEAR((rs.nearest_points[1] - tf2.translation()).norm(), S(0.3), gjk_tol * scale)
-                << "nearest point 1 is not on the sphere";
+          EXPECT_LE(off, tol) << "nearest point 0 is not on the mesh";
+          EXPECT_NEAR((rs.nearest_points[0] - rs.nearest_points[1]).norm(), rs.min_distance, tol);
+          if (sphere)
+          {
+            EXPECT_NEAR((rs.nearest_points[1] - tf2.translation()).norm(), S(0.3), tol) << "nearest point 1 is not on the sphere";
           }
         }
       }
-      std::cout << "[distance] " << what << ": 200 poses, " << colliding << " colliding, max |RS - RSS| / scale "
-                << max_rel << ", max nearest-point diff vs RSS / scale " << max_point_diff
-                << ", max offset of nearest point 0 from the mesh / scale " << max_off << "\n";
-      EXPECT_GE(colliding, 10) << what << ": too few colliding poses";
-      EXPECT_LE(colliding, 190) << what << ": too few free poses";
+      std::cout << "[distance] " << what << ": 40 poses, " << colliding << " colliding, max |RS - FCL's RSS| / scale "
+                << max_rss << ", max offset of nearest point 0 from the mesh / scale " << max_off << "\n";
+      EXPECT_GE(colliding, 2) << what << ": too few colliding poses";
+      EXPECT_LE(colliding, 38) << what << ": too few free poses";
     }
 }
 
@@ -590,6 +613,31 @@ TYPED_TEST(DistanceMeshShape, SignedDistanceIsTheDeepestContact)
               << " of them exactly radius - centre distance\n";
     EXPECT_GE(negative_box, 5);
     EXPECT_GE(negative_sphere, 5);
+  }
+}
+
+/// The README's quick start: a tetrahedron against a 0.5 box centred at (2, 0, 0) is 0.75 apart (vertex (1, 0, 0) to
+/// the face x = 1.75), with either solver (FCL's libccd GJK says 0.829), and the nearest points realise it.
+TYPED_TEST(DistanceMeshShape, QuickStartTetrahedronIsThreeQuartersFromTheBox)
+{
+  using S = TypeParam;
+  TriangleMesh<S> tetra;
+  tetra.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  tetra.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  const auto mesh = prepare<S>("tetrahedron", tetra);
+  const fcl::Box<S> box(S(0.5), S(0.5), S(0.5));
+  fcl::Transform3<S> at = fcl::Transform3<S>::Identity();
+  at.translation() << 2, 0, 0;
+  for (const auto solver : {fcl::GST_LIBCCD, fcl::GST_INDEP})
+  {
+    fcl::DistanceRequest<S> request(true);
+    request.gjk_solver_type = solver;
+    fcl::DistanceResult<S> result;
+    fcl_rs::distance<S>(mesh.rs.get(), fcl::Transform3<S>::Identity(), &box, at, request, result);
+    EXPECT_EQ(result.min_distance, S(0.75)) << "solver " << int(solver);
+    EXPECT_EQ(result.nearest_points[0], fcl::Vector3<S>(1, 0, 0));
+    EXPECT_EQ(result.nearest_points[1].x(), S(1.75));
+    EXPECT_EQ((result.nearest_points[1] - result.nearest_points[0]).norm(), S(0.75));
   }
 }
 

@@ -17,6 +17,7 @@
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/narrowphase/triangle_intersection.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/descent.h"
 #include "fcl_rs/traversal/moved_frames.h"
 #include "fcl_rs/traversal/shape_switch.h"
@@ -219,6 +220,12 @@ public:
   }
   /// node.overlap(bv_), with bv_'s frame moved once per query.
   bool overlaps(const RS<S>& node) const { return detail::overlap(moved_, node, bv_, kDefaultOverlapTest); }
+  /// Widens the test's rounding offsets by TriangleShapeLeaf::boundOffsets, so that it never prunes a triangle the
+  /// leaf test reports.
+  void coverLeaves(S offsets)
+  {
+    moved_ = detail::BoxedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_, offsets);
+  }
 
 private:
   /// bv_in_mesh: the shape's RS in the mesh's frame.
@@ -257,11 +264,13 @@ public:
     if (node.empty()) return false;
     const fcl::Vector3<S> n = node.axes().transpose() * h_.n;
     const S lowest = h_.n.dot(node.origin) - node.support(-n);
-    return lowest <= h_.d + shapeRoundingBound(node, h_.d);
+    return lowest <= h_.d + shapeRoundingBound(node, std::abs(h_.d) + offsets_);
   }
+  void coverLeaves(S offsets) { offsets_ = offsets; }
 
 private:
   fcl::Halfspace<S> h_;
+  S offsets_ = 0;
 };
 
 template <typename S>
@@ -275,12 +284,14 @@ public:
     if (node.empty()) return false;
     const fcl::Vector3<S> n = node.axes().transpose() * p_.n;
     const S at_origin = p_.n.dot(node.origin);
-    const S tol = shapeRoundingBound(node, p_.d);
+    const S tol = shapeRoundingBound(node, std::abs(p_.d) + offsets_);
     return at_origin - node.support(-n) <= p_.d + tol && at_origin + node.support(n) >= p_.d - tol;
   }
+  void coverLeaves(S offsets) { offsets_ = offsets; }
 
 private:
   fcl::Plane<S> p_;
+  S offsets_ = 0;
 };
 
 /// A sphere is tested exactly against a node's principal box and diagonal slabs: cheaper than an RS test of
@@ -313,6 +324,9 @@ public:
     return true;
   }
 
+  /// As ShapeBound's: the leaf test's tolerance terms join the offsets.
+  void coverLeaves(S offsets) { offset_ += offsets; }
+
 private:
   fcl::Vector3<S> centre_;  ///< in the mesh's frame
   S radius_;
@@ -320,7 +334,7 @@ private:
 };
 
 /// Mesh-shape collision in the mesh's frame: the shape is bounded once per query in that frame;
-/// leaves use FCL's own triangle-shape test.
+/// leaves use the exact triangle-shape test (narrowphase/triangle_shape.h), FCL's solver only for contact details.
 template <typename Shape, typename NarrowPhaseSolver>
 class MeshShapeCollisionTraversalNodeRS
   : public fcl::detail::MeshShapeCollisionTraversalNode<RS<typename Shape::S>, Shape, NarrowPhaseSolver>
@@ -334,17 +348,18 @@ public:
     return !bound->overlaps(this->model1->getBV(b1).bv);
   }
 
-  void leafTesting(int b1, int b2) const override
+  void leafTesting(int b1, int) const override
   {
-    fcl::detail::meshShapeCollisionOrientedNodeLeafTesting(
-        b1, b2, this->model1, *this->model2, this->vertices, this->tri_indices, this->tf1, this->tf2,
-        this->nsolver, this->enable_statistics, this->cost_density, this->num_leaf_tests, this->request,
-        *this->result);
+    if (this->enable_statistics) this->num_leaf_tests++;
+    meshShapeLeafTesting(*leaf, primitiveId(this->model1->getBV(b1)), this->model1, *this->model2, this->vertices,
+                         this->tri_indices, this->tf1, this->tf2, this->nsolver, this->cost_density, this->request,
+                         *this->result);
   }
 
   /// Held by value: a query that visits one or two nodes would otherwise spend a good part of its time in the
   /// allocator.
   std::optional<ShapeBound<S, Shape>> bound;
+  std::optional<TriangleShapeLeaf<Shape>> leaf;
 };
 
 /// Sets up node for the mesh model1 at tf1 against the shape model2 at tf2; false unless model1 is a triangle
@@ -360,10 +375,16 @@ bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& nod
 {
   if (!detail::setUpMeshShapeNode(node, model1, tf1, model2, tf2, nsolver, request, result)) return false;
   node.cost_density = model1.cost_density * model2.cost_density;
+  node.leaf.emplace(model2, tf1, tf2);
   if (bound)
     node.bound.emplace(std::move(*bound));
   else
     node.bound.emplace(model2, tf1.inverse(Eigen::Isometry) * tf2);
+  // The mesh's points lie within |origin|_1 + 2 reach of its frame's origin (reach: along the root's own axes).
+  using S = typename Shape::S;
+  const RS<S>& root = model1.getBV(0).bv;
+  const S mesh_reach = root.origin.template lpNorm<1>() + 2 * detail::Box<S>(root).reach();
+  node.bound->coverLeaves(node.leaf->boundOffsets(mesh_reach));
   return true;
 }
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/narrowphase/triangle_intersection.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/descent.h"
 #include "fcl_rs/traversal/moved_frames.h"
 #include "fcl_rs/traversal/per_query_table.h"
@@ -232,7 +234,8 @@ private:
 };
 
 /// Mesh-shape distance as FCL's MeshShapeDistanceTraversalNodeRSS, but with the shape bounded in the
-/// mesh's frame; leaves use FCL's own triangle-shape distance and nearest points, always in the world frame.
+/// mesh's frame; leaves use the exact triangle-shape distance (narrowphase/triangle_shape.h), nearest points in the
+/// world frame, -1 for a triangle that meets the shape (FCL's convention for its mesh-shape leaves).
 template <typename Shape, typename NarrowPhaseSolver>
 class MeshShapeDistanceTraversalNodeRS
   : public fcl::detail::MeshShapeDistanceTraversalNode<RS<typename Shape::S>, Shape, NarrowPhaseSolver>
@@ -259,26 +262,19 @@ public:
 
   std::unique_ptr<ShapeDistanceBound<S, Shape>> bound;
 
+  std::optional<TriangleShapeLeaf<Shape>> leaf;
+
 private:
-  /// FCL's meshShapeDistanceOrientedNodeLeafTesting with two faults of FCL's sphere-triangle distance (used by
-  /// both solvers) mended: it writes nothing when the two intersect, so FCL reports an uninitialized distance
-  /// (in practice a denormal near 0; here exactly 0, as FCL's mesh-mesh distance while colliding, whereas
-  /// FCL's other shape-triangle distances report -1; with enable_signed_distance -1, so that the caller
-  /// replaces it by the penetration as for the other shapes), and it returns each nearest point in its own
-  /// object's frame (here moved to the world frame, like every other shape's).
+  /// A triangle that meets the shape reports -1 (FCL's convention for its shape-triangle distances), except
+  /// against a sphere without enable_signed_distance: 0, what FCL's sphere-triangle distance leaves in practice
+  /// (it writes nothing there) and its mesh-mesh distance reports while colliding.
   void triangleDistance(int primitive_id) const
   {
     constexpr bool sphere = std::is_same<Shape, fcl::Sphere<S>>::value;
     const auto t = triangleVertices(this->vertices, this->tri_indices[primitive_id]);
-    S d = sphere && !this->request.enable_signed_distance ? 0 : -1;
-    fcl::Vector3<S> on_mesh = fcl::Vector3<S>::Zero(), on_shape = fcl::Vector3<S>::Zero();
-    const bool apart = this->nsolver->shapeTriangleDistance(*this->model2, this->tf2, t[0], t[1], t[2], this->tf1, &d,
-                                                            &on_shape, &on_mesh);
-    if (sphere && apart)
-    {
-      on_shape = this->tf2 * on_shape;
-      on_mesh = this->tf1 * on_mesh;
-    }
+    fcl::Vector3<S> on_mesh, on_shape;
+    S d = leaf->distance(t.data(), on_mesh, on_shape);
+    if (d < 0 && sphere && !this->request.enable_signed_distance) d = 0;
     this->result->update(d, this->model1, this->model2, primitive_id, fcl::DistanceResult<S>::NONE, on_mesh, on_shape);
   }
 };
@@ -297,6 +293,7 @@ bool initialize(MeshShapeDistanceTraversalNodeRS<Shape, NarrowPhaseSolver>& node
   node.rel_err = request.rel_err;
   node.abs_err = request.abs_err;
   node.bound.reset(new ShapeDistanceBound<S, Shape>(model2, tf1.inverse(Eigen::Isometry) * tf2));
+  node.leaf.emplace(model2, tf1, tf2);
   return true;
 }
 

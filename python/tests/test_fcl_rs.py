@@ -28,7 +28,10 @@ def torus(big=0.6, small=0.2, rings=16, sides=8):
 def test_quickstart_runs_and_readme_quotes_it(capsys):
     path = os.path.join(SOURCE_DIR, "python", "examples", "quickstart.py")
     runpy.run_path(path, run_name="__main__")
-    assert "colliding: True" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "colliding: True" in out
+    # The tetrahedron's vertex (1, 0, 0) is 0.75 from the box's face x = 1.75 (exact mesh-shape leaves).
+    assert "distance: 0.75 " in out
     with open(path) as f, open(os.path.join(SOURCE_DIR, "README.md")) as readme:
         assert f.read() in readme.read(), "README's Python quick start differs from python/examples/quickstart.py"
 

@@ -1,0 +1,785 @@
+// Triangle-primitive leaf tests of RS mesh-shape queries: one implementation serves distance and collision.
+//
+// Every test runs in the shape's own frame, in double (float inputs are widened), on the triangle moved there by
+// X = tf_shape^-1 tf_mesh. Sphere, capsule, box, convex, plane and halfspace are closed form: the distance is the
+// exact distance of the moved triangle to the shape, to rounding (point-triangle, segment-triangle,
+// segment-segment and triangle-triangle distances over the features that can hold the closest pair).
+// Cylinder, cone and ellipsoid have no closed form: GJK on their exact support functions (not FCL's, which adds
+// margins and tolerances), stopped when its certified lower bound is within kIterativeRelativeGap of the distance
+// it has reached (docs/distance.md).
+//
+// Collision verdict: the pair is reported iff the computed distance of the moved triangle to the shape is at most
+// leafTolerance (triangle_intersection.h) of the triangle's and the shape's largest coordinates and the poses, the
+// contract of the mesh-mesh leaf test: a triangle that touches the shape exactly (in the world frame, as computed)
+// is always reported. The iterative shapes report a pair unless GJK certifies it farther apart than that.
+#ifndef FCL_RS_NARROWPHASE_TRIANGLE_SHAPE_H
+#define FCL_RS_NARROWPHASE_TRIANGLE_SHAPE_H
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+#include <vector>
+
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/cone.h>
+#include <fcl/geometry/shape/convex.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/ellipsoid.h>
+#include <fcl/geometry/shape/halfspace.h>
+#include <fcl/geometry/shape/plane.h>
+#include <fcl/geometry/shape/sphere.h>
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/shape/utility.h>
+#include <fcl/narrowphase/collision_request.h>
+#include <fcl/narrowphase/collision_result.h>
+
+#include "fcl_rs/bvh/node_links.h"
+#include "fcl_rs/narrowphase/triangle_intersection.h"
+
+namespace fcl_rs {
+namespace triangle_shape {
+
+using Vec = Eigen::Vector3d;
+
+/// GJK (cylinder, cone, ellipsoid) stops once its lower bound on the distance is within this fraction of the
+/// distance it has reached; the reported distance is the reached one (an upper bound), at most this much too large.
+constexpr double kIterativeRelativeGap = 1e-12;
+/// ... or after this many support points (none of the tests comes near it).
+constexpr int kIterativeMaxSteps = 200;
+
+/// A pair of closest points (a on the triangle, b on the shape) and their distance.
+struct Closest
+{
+  double distance = std::numeric_limits<double>::infinity();
+  Vec on_triangle = Vec::Zero();
+  Vec on_shape = Vec::Zero();
+  void keep(double d, const Vec& a, const Vec& b)
+  {
+    if (d < distance) *this = Closest{d, a, b};
+  }
+};
+
+/// The closest point of segment [a, b] to x, as the weight t of b.
+inline double segmentWeight(const Vec& a, const Vec& b, const Vec& x)
+{
+  const Vec ab = b - a;
+  const double len2 = ab.squaredNorm();
+  if (!(len2 > 0)) return 0;
+  return std::clamp(ab.dot(x - a) / len2, 0.0, 1.0);
+}
+
+/// The closest point of triangle t to x, with its barycentric weights w (Ericson's region walk). A degenerate
+/// triangle (no face region) falls back to its three edges.
+inline Vec closestOnTriangle(const Vec t[3], const Vec& x, double w[3])
+{
+  const Vec ab = t[1] - t[0], ac = t[2] - t[0], ap = x - t[0];
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  const auto set = [&](double w0, double w1, double w2) {
+    w[0] = w0, w[1] = w1, w[2] = w2;
+    return Vec(w0 * t[0] + w1 * t[1] + w2 * t[2]);
+  };
+  if (d1 <= 0 && d2 <= 0) return set(1, 0, 0);
+  const Vec bp = x - t[1];
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return set(0, 1, 0);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0)
+  {
+    const double v = d1 / (d1 - d3);
+    return set(1 - v, v, 0);
+  }
+  const Vec cp = x - t[2];
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return set(0, 0, 1);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0)
+  {
+    const double v = d2 / (d2 - d6);
+    return set(1 - v, 0, v);
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+  {
+    const double v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return set(0, 1 - v, v);
+  }
+  const double area = va + vb + vc;
+  if (area > 0 && std::isfinite(area)) return set(va / area, vb / area, vc / area);
+  // No face region (collinear vertices): the nearest of the three edges.
+  double best = std::numeric_limits<double>::infinity();
+  Vec point = t[0];
+  for (int i = 0; i < 3; ++i)
+  {
+    const int j = (i + 1) % 3;
+    const double s = segmentWeight(t[i], t[j], x);
+    const Vec y = (1 - s) * t[i] + s * t[j];
+    const double d = (y - x).squaredNorm();
+    if (d < best)
+    {
+      best = d, point = y;
+      w[0] = w[1] = w[2] = 0;
+      w[i] = 1 - s, w[j] = s;
+    }
+  }
+  return point;
+}
+
+inline Vec closestOnTriangle(const Vec t[3], const Vec& x)
+{
+  double w[3];
+  return closestOnTriangle(t, x, w);
+}
+
+/// Closest points of segments [p0, p1] and [q0, q1] (Ericson's, degenerate segments included).
+inline void segmentSegment(const Vec& p0, const Vec& p1, const Vec& q0, const Vec& q1, Closest& best)
+{
+  const Vec d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0, t = 0;
+  if (!(a > 0) && !(e > 0)) {}
+  else if (!(a > 0))
+    t = std::clamp(f / e, 0.0, 1.0);
+  else
+  {
+    const double c = d1.dot(r);
+    if (!(e > 0))
+      s = std::clamp(-c / a, 0.0, 1.0);
+    else
+    {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0)
+        t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+      else if (t > 1)
+        t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+    }
+  }
+  const Vec x = p0 + s * d1, y = q0 + t * d2;
+  best.keep((x - y).norm(), x, y);
+}
+
+/// Closest points of triangle t and segment [s0, s1] (on_shape on the segment).
+inline Closest segmentTriangle(const Vec t[3], const Vec& s0, const Vec& s1)
+{
+  Closest best;
+  // The segment crossing the triangle's plane inside the triangle: distance 0.
+  const Vec n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const double h0 = n.dot(s0 - t[0]), h1 = n.dot(s1 - t[0]);
+  if (n.squaredNorm() > 0 && ((h0 <= 0 && h1 >= 0) || (h0 >= 0 && h1 <= 0)) && h0 != h1)
+  {
+    const Vec x = s0 + (h0 / (h0 - h1)) * (s1 - s0);
+    const Vec y = closestOnTriangle(t, x);
+    best.keep((x - y).norm(), y, x);
+  }
+  for (const Vec* s : {&s0, &s1})
+  {
+    const Vec y = closestOnTriangle(t, *s);
+    best.keep((y - *s).norm(), y, *s);
+  }
+  for (int i = 0; i < 3; ++i)
+  {
+    Closest edge;
+    segmentSegment(t[i], t[(i + 1) % 3], s0, s1, edge);
+    best.keep(edge.distance, edge.on_triangle, edge.on_shape);
+  }
+  return best;
+}
+
+/// Closest points of triangles t and u (on_shape on u): the mesh-mesh leaf test's distance, which takes zero-area
+/// triangles too (FCL's triDistance returns NaN for a triangle whose vertices coincide).
+inline Closest triangleTriangle(const Vec t[3], const Vec u[3])
+{
+  const detail::ClosestSoFar<double> c = detail::triangleDistance<double>(t, u, 0);
+  return Closest{std::sqrt(c.sq_distance), c.on_a, c.on_b};
+}
+
+/// Closest points of the triangle and a convex shape given by its support function (the point of the shape
+/// farthest along a direction), by GJK on the Minkowski difference triangle - shape with the closest point of
+/// each simplex found by closestOnTriangle. Stops when the pair is certified farther apart than `apart` (the
+/// collision verdict needs no more), when it is within `touch` (meeting), or when the lower bound is within
+/// kIterativeRelativeGap of the distance reached. lower: the certified lower bound reached.
+template <typename Support>
+Closest gjk(const Vec t[3], const Support& support, double touch, double apart, double& lower)
+{
+  struct Point
+  {
+    Vec a, b, w;  // on the triangle, on the shape, a - b
+  };
+  const auto supportOf = [&](const Vec& d) {  // the Minkowski difference's support along -d
+    int best = 0;
+    for (int i = 1; i < 3; ++i)
+      if (t[i].dot(d) < t[best].dot(d)) best = i;
+    const Vec b = support(d);
+    return Point{t[best], b, t[best] - b};
+  };
+  std::array<Point, 4> simplex;
+  int size = 1;
+  simplex[0] = supportOf(-t[0]);
+  Vec v = simplex[0].w;
+  double weights[4] = {1, 0, 0, 0};
+  lower = 0;
+  Closest reached;
+  const auto finish = [&]() {
+    reached.on_triangle = Vec::Zero(), reached.on_shape = Vec::Zero();
+    for (int i = 0; i < size; ++i)
+    {
+      reached.on_triangle += weights[i] * simplex[i].a;
+      reached.on_shape += weights[i] * simplex[i].b;
+    }
+    reached.distance = (reached.on_triangle - reached.on_shape).norm();
+    return reached;
+  };
+  for (int step = 0; step < kIterativeMaxSteps; ++step)
+  {
+    const double vv = v.squaredNorm();
+    if (!(vv > touch * touch)) return lower = 0, finish();
+    const double norm = std::sqrt(vv);
+    const Point p = supportOf(v);
+    // Every point of the difference lies beyond the plane through p normal to v: a lower bound.
+    lower = std::max(lower, v.dot(p.w) / norm);
+    if (lower > apart || norm - lower <= kIterativeRelativeGap * norm) return finish();
+    // A support point already in the simplex: no progress left above rounding.
+    for (int i = 0; i < size; ++i)
+      if (simplex[i].w == p.w) return finish();
+    simplex[size++] = p;
+    weights[size - 1] = 0;
+    // The closest point of the simplex to the origin; vertices without weight leave it.
+    Vec closest;
+    if (size == 2)
+    {
+      const double s = segmentWeight(simplex[0].w, simplex[1].w, Vec::Zero());
+      weights[0] = 1 - s, weights[1] = s;
+      closest = weights[0] * simplex[0].w + weights[1] * simplex[1].w;
+    }
+    else if (size == 3)
+    {
+      const Vec w3[3] = {simplex[0].w, simplex[1].w, simplex[2].w};
+      closest = closestOnTriangle(w3, Vec::Zero(), weights);
+    }
+    else
+    {
+      // A tetrahedron: the origin inside (on the inner side of all four faces) meets; else its nearest face.
+      const Vec w[4] = {simplex[0].w, simplex[1].w, simplex[2].w, simplex[3].w};
+      bool inside = (w[1] - w[0]).cross(w[2] - w[0]).dot(w[3] - w[0]) != 0;
+      for (int f = 0; f < 4 && inside; ++f)
+      {
+        const Vec& a = w[(f + 1) % 4];
+        const Vec n = (w[(f + 2) % 4] - a).cross(w[(f + 3) % 4] - a);
+        const double opposite = n.dot(w[f] - a);
+        inside = opposite != 0 && n.dot(-a) * opposite >= 0;
+      }
+      // Rounding can make a nearly flat tetrahedron seem to hold the origin; the certified bound overrules it.
+      if (inside && lower <= touch)
+      {
+        lower = 0;
+        finish();
+        reached.distance = 0;
+        return reached;
+      }
+      double best = std::numeric_limits<double>::infinity();
+      double face_weights[3];
+      int face = 0;
+      for (int f = 0; f < 4; ++f)
+      {
+        const Vec tri[3] = {w[(f + 1) % 4], w[(f + 2) % 4], w[(f + 3) % 4]};
+        const Vec x = closestOnTriangle(tri, Vec::Zero(), face_weights);
+        if (x.squaredNorm() < best) best = x.squaredNorm(), face = f, closest = x;
+      }
+      const Vec tri[3] = {w[(face + 1) % 4], w[(face + 2) % 4], w[(face + 3) % 4]};
+      closestOnTriangle(tri, Vec::Zero(), face_weights);
+      const std::array<Point, 4> old = simplex;
+      for (int k = 0; k < 3; ++k) simplex[k] = old[(face + 1 + k) % 4], weights[k] = face_weights[k];
+      weights[3] = 0;
+      size = 3;
+    }
+    // No progress: the reached point is as close as rounding allows.
+    if (!(closest.squaredNorm() < vv)) return finish();
+    int kept = 0;
+    for (int i = 0; i < size; ++i)
+      if (weights[i] > 0) simplex[kept] = simplex[i], weights[kept++] = weights[i];
+    size = std::max(kept, 1);
+    v = closest;
+  }
+  return finish();
+}
+
+/// A primitive in its own frame: `meets` decides the collision verdict within a tolerance, `closest` the
+/// distance of a triangle that does not meet it. reach: the shape's largest coordinate (the tolerance's scale).
+template <typename Shape>
+class ShapeGeometry;
+
+template <typename S>
+class ShapeGeometry<fcl::Sphere<S>>
+{
+public:
+  explicit ShapeGeometry(const fcl::Sphere<S>& s) : r_(s.radius) {}
+  double reach() const { return r_; }
+  Closest closest(const Vec t[3]) const
+  {
+    const Vec x = closestOnTriangle(t, Vec::Zero());
+    const double n = x.norm();
+    return Closest{n - r_, x, n > 0 ? Vec(x * (r_ / n)) : Vec(0, 0, r_)};
+  }
+  bool meets(const Vec t[3], double tol) const { return closestOnTriangle(t, Vec::Zero()).norm() <= r_ + tol; }
+
+private:
+  double r_;
+};
+
+template <typename S>
+class ShapeGeometry<fcl::Capsule<S>>
+{
+public:
+  explicit ShapeGeometry(const fcl::Capsule<S>& c) : r_(c.radius), h_(double(c.lz) / 2) {}
+  double reach() const { return r_ + h_; }
+  Closest closest(const Vec t[3]) const
+  {
+    Closest c = segmentTriangle(t, Vec(0, 0, -h_), Vec(0, 0, h_));
+    const Vec away = c.on_triangle - c.on_shape;
+    c.on_shape += c.distance > 0 ? Vec(away * (r_ / c.distance)) : Vec::Zero();
+    c.distance -= r_;
+    return c;
+  }
+  bool meets(const Vec t[3], double tol) const
+  {
+    return segmentTriangle(t, Vec(0, 0, -h_), Vec(0, 0, h_)).distance <= r_ + tol;
+  }
+
+private:
+  double r_, h_;
+};
+
+template <typename S>
+class ShapeGeometry<fcl::Box<S>>
+{
+public:
+  explicit ShapeGeometry(const fcl::Box<S>& b) : h_(b.side.template cast<double>() / 2) {}
+  double reach() const { return h_.maxCoeff(); }
+
+  /// The separating axis test: the box's three axes, the triangle's normal and the nine cross products of box
+  /// axes and triangle edges. A pair is separated along an axis L only by more than tol |L|_1 (>= tol |L|).
+  bool meets(const Vec t[3], double tol) const
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const double lo = std::min({t[0][k], t[1][k], t[2][k]}), hi = std::max({t[0][k], t[1][k], t[2][k]});
+      if (lo > h_[k] + tol || hi < -h_[k] - tol) return false;
+    }
+    const auto separates = [&](const Vec& axis) {
+      const double p0 = axis.dot(t[0]), p1 = axis.dot(t[1]), p2 = axis.dot(t[2]);
+      const double r = h_.dot(axis.cwiseAbs()) + tol * axis.template lpNorm<1>();
+      return std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r;
+    };
+    if (separates((t[1] - t[0]).cross(t[2] - t[0]))) return false;
+    for (int i = 0; i < 3; ++i)
+    {
+      const Vec f = t[(i + 1) % 3] - t[i];
+      if (separates(Vec(0, -f.z(), f.y())) || separates(Vec(f.z(), 0, -f.x())) || separates(Vec(-f.y(), f.x(), 0)))
+        return false;
+    }
+    return true;
+  }
+
+  /// For two disjoint convex polytopes some closest pair is a vertex of one and a point of the other, or a
+  /// point on an edge of each. The box's closest point q to the triangle's closest point p is p clamped to the
+  /// box, so q can be a box vertex or lie on a box edge only if p (and so some triangle vertex) is beyond the
+  /// faces meeting there: the other vertices and edges are skipped (exact comparisons, no rounding).
+  Closest closest(const Vec t[3]) const
+  {
+    Closest best;
+    for (int i = 0; i < 3; ++i)
+    {
+      const Vec q = t[i].cwiseMax(-h_).cwiseMin(h_);
+      best.keep((t[i] - q).norm(), t[i], q);
+    }
+    // beyond[k][s]: some triangle vertex lies beyond the box face of axis k on side s (0: -h, 1: +h).
+    bool beyond[3][2];
+    for (int k = 0; k < 3; ++k)
+    {
+      beyond[k][0] = std::min({t[0][k], t[1][k], t[2][k]}) <= -h_[k];
+      beyond[k][1] = std::max({t[0][k], t[1][k], t[2][k]}) >= h_[k];
+    }
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const int s[3] = {corner & 1, (corner >> 1) & 1, (corner >> 2) & 1};
+      if (!beyond[0][s[0]] || !beyond[1][s[1]] || !beyond[2][s[2]]) continue;
+      const Vec q(s[0] ? h_[0] : -h_[0], s[1] ? h_[1] : -h_[1], s[2] ? h_[2] : -h_[2]);
+      const Vec p = closestOnTriangle(t, q);
+      best.keep((p - q).norm(), p, q);
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      const int j = (k + 1) % 3, l = (k + 2) % 3;
+      for (int sides = 0; sides < 4; ++sides)
+      {
+        const int sj = sides & 1, sl = sides >> 1;
+        if (!beyond[j][sj] || !beyond[l][sl]) continue;
+        Vec e0, e1;
+        e0[j] = e1[j] = sj ? h_[j] : -h_[j];
+        e0[l] = e1[l] = sl ? h_[l] : -h_[l];
+        e0[k] = -h_[k], e1[k] = h_[k];
+        for (int i = 0; i < 3; ++i) segmentSegment(t[i], t[(i + 1) % 3], e0, e1, best);
+      }
+    }
+    return best;
+  }
+
+private:
+  Vec h_;
+};
+
+/// A convex polytope by the fans of its faces, each fan triangle with its outward normal.
+template <typename S>
+class ShapeGeometry<fcl::Convex<S>>
+{
+public:
+  explicit ShapeGeometry(const fcl::Convex<S>& c)
+  {
+    const auto& vertices = c.getVertices();
+    const auto& faces = c.getFaces();
+    const Vec inner = c.getInteriorPoint().template cast<double>();
+    for (const auto& v : vertices) reach_ = std::max(reach_, v.template cast<double>().cwiseAbs().maxCoeff());
+    std::size_t at = 0;
+    for (int f = 0; f < c.getFaceCount(); ++f)
+    {
+      const int count = faces[at];
+      const Vec x0 = vertices[std::size_t(faces[at + 1])].template cast<double>();
+      for (int i = 1; i + 1 < count; ++i)
+      {
+        Fan tri{{x0, vertices[std::size_t(faces[at + 1 + i])].template cast<double>(),
+                 vertices[std::size_t(faces[at + 2 + i])].template cast<double>()},
+                Vec::Zero()};
+        tri.normal = (tri.v[1] - tri.v[0]).cross(tri.v[2] - tri.v[0]);
+        if (tri.normal.dot(inner - x0) > 0) tri.normal = -tri.normal;
+        fans_.push_back(tri);
+      }
+      at += std::size_t(count) + 1;
+    }
+  }
+  double reach() const { return reach_; }
+
+  /// A triangle vertex inside every face plane (the triangle inside the polytope), or the triangle within tol
+  /// of a face triangle (the mesh-mesh leaf test's contract).
+  bool meets(const Vec t[3], double tol) const
+  {
+    const auto inside = [&](const Vec& x) {
+      for (const Fan& f : fans_)
+        if (f.normal.dot(x - f.v[0]) > tol * f.normal.template lpNorm<1>()) return false;
+      return true;
+    };
+    if (inside(t[0])) return true;
+    for (const Fan& f : fans_)
+      if (trianglesWithin<double>(t, f.v, tol)) return true;
+    return false;
+  }
+
+  /// Disjoint from the triangle, the polytope's closest point is on its boundary: the nearest face triangle.
+  Closest closest(const Vec t[3]) const
+  {
+    Closest best;
+    for (const Fan& f : fans_)
+    {
+      const Closest c = triangleTriangle(t, f.v);
+      best.keep(c.distance, c.on_triangle, c.on_shape);
+    }
+    return best;
+  }
+
+private:
+  struct Fan
+  {
+    Vec v[3];
+    Vec normal;  ///< outward, not normalised
+  };
+  std::vector<Fan> fans_;
+  double reach_ = 0;
+};
+
+/// Plane n . x = d and halfspace n . x <= d (|n| = 1): the triangle's signed vertex heights decide.
+template <typename S>
+class ShapeGeometry<fcl::Plane<S>>
+{
+public:
+  explicit ShapeGeometry(const fcl::Plane<S>& p) : n_(p.n.template cast<double>()), d_(p.d) {}
+  double reach() const { return std::abs(d_); }
+  bool meets(const Vec t[3], double tol) const
+  {
+    const double h0 = n_.dot(t[0]) - d_, h1 = n_.dot(t[1]) - d_, h2 = n_.dot(t[2]) - d_;
+    return std::min({h0, h1, h2}) <= tol && std::max({h0, h1, h2}) >= -tol;
+  }
+  Closest closest(const Vec t[3]) const
+  {
+    Closest best;
+    for (int i = 0; i < 3; ++i)
+    {
+      const double h = n_.dot(t[i]) - d_;
+      best.keep(std::abs(h), t[i], t[i] - h * n_);
+    }
+    return best;
+  }
+
+private:
+  Vec n_;
+  double d_;
+};
+
+template <typename S>
+class ShapeGeometry<fcl::Halfspace<S>>
+{
+public:
+  explicit ShapeGeometry(const fcl::Halfspace<S>& p) : n_(p.n.template cast<double>()), d_(p.d) {}
+  double reach() const { return std::abs(d_); }
+  bool meets(const Vec t[3], double tol) const
+  {
+    return std::min({n_.dot(t[0]), n_.dot(t[1]), n_.dot(t[2])}) - d_ <= tol;
+  }
+  Closest closest(const Vec t[3]) const
+  {
+    Closest best;
+    for (int i = 0; i < 3; ++i)
+    {
+      const double h = n_.dot(t[i]) - d_;
+      best.keep(h, t[i], t[i] - h * n_);
+    }
+    return best;
+  }
+
+private:
+  Vec n_;
+  double d_;
+};
+
+/// Cylinder, cone and ellipsoid: GJK on their exact support functions.
+template <typename Derived>
+class IterativeGeometry
+{
+public:
+  bool meets(const Vec t[3], double tol) const
+  {
+    double lower;
+    gjk(t, support(), tol, tol, lower);
+    return lower <= tol;
+  }
+  /// One GJK run for both: meets as meets(t, tol) decides it, else the closest points.
+  Closest closest(const Vec t[3], double tol, bool& meets) const
+  {
+    double lower;
+    const Closest c = gjk(t, support(), tol, std::numeric_limits<double>::infinity(), lower);
+    meets = lower <= tol;
+    return c;
+  }
+  Closest closest(const Vec t[3]) const
+  {
+    bool meets;
+    return closest(t, 0, meets);
+  }
+
+private:
+  auto support() const
+  {
+    return [this](const Vec& d) { return static_cast<const Derived*>(this)->support(d); };
+  }
+};
+
+template <typename S>
+class ShapeGeometry<fcl::Cylinder<S>> : public IterativeGeometry<ShapeGeometry<fcl::Cylinder<S>>>
+{
+public:
+  explicit ShapeGeometry(const fcl::Cylinder<S>& c) : r_(c.radius), h_(double(c.lz) / 2) {}
+  double reach() const { return std::max(r_, h_); }
+  Vec support(const Vec& d) const
+  {
+    const double radial = std::hypot(d.x(), d.y());
+    const double s = radial > 0 ? r_ / radial : 0;
+    return Vec(s * d.x(), s * d.y(), d.z() >= 0 ? h_ : -h_);
+  }
+
+private:
+  double r_, h_;
+};
+
+/// FCL's cone: apex at z = lz / 2, base of the radius at z = -lz / 2.
+template <typename S>
+class ShapeGeometry<fcl::Cone<S>> : public IterativeGeometry<ShapeGeometry<fcl::Cone<S>>>
+{
+public:
+  explicit ShapeGeometry(const fcl::Cone<S>& c) : r_(c.radius), h_(double(c.lz) / 2) {}
+  double reach() const { return std::max(r_, h_); }
+  Vec support(const Vec& d) const
+  {
+    const double radial = std::hypot(d.x(), d.y());
+    const double s = radial > 0 ? r_ / radial : 0;
+    const Vec rim(s * d.x(), s * d.y(), -h_);
+    return rim.dot(d) > h_ * d.z() ? rim : Vec(0, 0, h_);
+  }
+
+private:
+  double r_, h_;
+};
+
+template <typename S>
+class ShapeGeometry<fcl::Ellipsoid<S>> : public IterativeGeometry<ShapeGeometry<fcl::Ellipsoid<S>>>
+{
+public:
+  explicit ShapeGeometry(const fcl::Ellipsoid<S>& e) : radii_(e.radii.template cast<double>()) {}
+  double reach() const { return radii_.maxCoeff(); }
+  Vec support(const Vec& d) const
+  {
+    const Vec scaled = radii_.cwiseProduct(d);
+    const double n = scaled.norm();
+    return n > 0 ? Vec(radii_.cwiseProduct(scaled) / n) : Vec::Zero();
+  }
+
+private:
+  Vec radii_;
+};
+
+}  // namespace triangle_shape
+
+/// The leaf test of one mesh-shape query: the shape's geometry in its frame and the mesh-to-shape map, set up once.
+/// Triangles come in the mesh's frame; nearest points go out in the world frame.
+template <typename Shape>
+class TriangleShapeLeaf
+{
+public:
+  using S = typename Shape::S;
+
+  TriangleShapeLeaf(const Shape& shape, const fcl::Transform3<S>& tf_mesh, const fcl::Transform3<S>& tf_shape)
+    : geometry_(shape),
+      shape_to_world_(tf_shape.template cast<double>()),
+      mesh_to_shape_(shape_to_world_.inverse(Eigen::Isometry) * tf_mesh.template cast<double>()),
+      t1_(tf_mesh.translation()),
+      t2_(tf_shape.translation()),
+      T_(mesh_to_shape_.translation().template cast<S>())
+  {
+  }
+
+  /// The collision verdict for triangle p (mesh frame): the leaf tolerance's contract (header comment).
+  bool meets(const fcl::Vector3<S> p[3]) const
+  {
+    triangle_shape::Vec t[3];
+    return geometry_.meets(moved(p, t), tolerance(p));
+  }
+
+  /// The triangle's distance to the shape and world nearest points (on_mesh, on_shape); -1 (FCL's convention for
+  /// mesh-shape leaves) and both points at the triangle's closest point when it meets the shape (meets()).
+  S distance(const fcl::Vector3<S> p[3], fcl::Vector3<S>& on_mesh, fcl::Vector3<S>& on_shape) const
+  {
+    triangle_shape::Vec t[3];
+    moved(p, t);
+    bool meets;
+    const triangle_shape::Closest c = closestUnlessMeeting(t, tolerance(p), meets);
+    if (meets)
+    {
+      on_mesh = on_shape = (shape_to_world_ * c.on_triangle).template cast<S>();
+      return S(-1);
+    }
+    on_mesh = (shape_to_world_ * c.on_triangle).template cast<S>();
+    on_shape = (shape_to_world_ * c.on_shape).template cast<S>();
+    return S(c.distance);
+  }
+
+  const triangle_shape::ShapeGeometry<Shape>& geometry() const { return geometry_; }
+  /// Triangle p (mesh frame) in the shape's frame.
+  const triangle_shape::Vec* moved(const fcl::Vector3<S> p[3], triangle_shape::Vec t[3]) const
+  {
+    for (int i = 0; i < 3; ++i) t[i] = mesh_to_shape_ * p[i].template cast<double>();
+    return t;
+  }
+  /// What a bounding-volume test must add to its rounding offsets (pairRoundingBound's) so that it never prunes a
+  /// triangle this leaf reports: the tolerance's terms, 1-norms for max norms, for a mesh within mesh_reach of its
+  /// frame's origin.
+  S boundOffsets(S mesh_reach) const
+  {
+    return t1_.template lpNorm<1>() + t2_.template lpNorm<1>() + T_.template lpNorm<1>() +
+           6 * (mesh_reach + S(geometry_.reach()));
+  }
+  S tolerance(const fcl::Vector3<S> p[3]) const
+  {
+    return leafTolerance<S>(std::max(largestCoordinate(p), S(geometry_.reach())), t1_, t2_, T_);
+  }
+
+private:
+  /// The iterative shapes decide the verdict and the distance in one run.
+  triangle_shape::Closest closestUnlessMeeting(const triangle_shape::Vec t[3], double tol, bool& meets) const
+  {
+    if constexpr (std::is_base_of_v<triangle_shape::IterativeGeometry<triangle_shape::ShapeGeometry<Shape>>,
+                                    triangle_shape::ShapeGeometry<Shape>>)
+      return geometry_.closest(t, tol, meets);
+    else
+    {
+      meets = geometry_.meets(t, tol);
+      return meets ? triangle_shape::Closest{0, t[0], t[0]} : geometry_.closest(t);
+    }
+  }
+
+  triangle_shape::ShapeGeometry<Shape> geometry_;
+  Eigen::Isometry3d shape_to_world_;
+  Eigen::Isometry3d mesh_to_shape_;
+  fcl::Vector3<S> t1_, t2_, T_;
+};
+
+/// FCL's meshShapeCollisionOrientedNodeLeafTesting for triangle primitive_id of model1 (mesh at tf1) against
+/// model2 (at tf2), with the verdict of leaf.meets. Contacts take position, normal and depth from FCL's solver
+/// where it finds the pair too; where it does not (a pair within the tolerance that FCL's GJK calls apart), the
+/// contact sits midway between the closest points with depth 0 and the normal from the triangle towards the shape.
+template <typename BV, typename Shape, typename Solver>
+void meshShapeLeafTesting(const TriangleShapeLeaf<Shape>& leaf, int primitive_id, const fcl::BVHModel<BV>* model1,
+                          const Shape& model2, const fcl::Vector3<typename Shape::S>* vertices,
+                          const fcl::Triangle* tri_indices, const fcl::Transform3<typename Shape::S>& tf1,
+                          const fcl::Transform3<typename Shape::S>& tf2, const Solver* nsolver,
+                          typename Shape::S cost_density, const fcl::CollisionRequest<typename Shape::S>& request,
+                          fcl::CollisionResult<typename Shape::S>& result)
+{
+  using S = typename Shape::S;
+  const bool occupied = model1->isOccupied() && model2.isOccupied();
+  if (!occupied && !((!model1->isFree() || model2.isFree()) && request.enable_cost)) return;
+  const auto p = triangleVertices(vertices, tri_indices[primitive_id]);
+  if (!leaf.meets(p.data())) return;
+  if (occupied && request.num_max_contacts > result.numContacts())
+  {
+    if (!request.enable_contact)
+      result.addContact(fcl::Contact<S>(model1, &model2, primitive_id, fcl::Contact<S>::NONE));
+    else
+    {
+      S depth;
+      fcl::Vector3<S> normal, position;
+      if (nsolver->shapeTriangleIntersect(model2, tf2, p[0], p[1], p[2], tf1, &position, &depth, &normal))
+        normal = -normal;
+      else
+      {
+        triangle_shape::Vec t[3];
+        const triangle_shape::Closest c = leaf.geometry().closest(leaf.moved(p.data(), t));
+        const Eigen::Isometry3d to_world = tf2.template cast<double>();
+        triangle_shape::Vec towards = c.on_shape - c.on_triangle;
+        if (!(towards.squaredNorm() > 0))
+        {
+          towards = (t[1] - t[0]).cross(t[2] - t[0]);
+          if (towards.dot(-c.on_triangle) < 0) towards = -towards;
+          if (!(towards.squaredNorm() > 0)) towards = -c.on_triangle;
+          if (!(towards.squaredNorm() > 0)) towards = triangle_shape::Vec::UnitX();
+        }
+        position = (to_world * ((c.on_triangle + c.on_shape) / 2)).template cast<S>();
+        normal = (to_world.linear() * towards.normalized()).template cast<S>();
+        depth = 0;
+      }
+      result.addContact(fcl::Contact<S>(model1, &model2, primitive_id, fcl::Contact<S>::NONE, position, normal, depth));
+    }
+  }
+  if (request.enable_cost)
+  {
+    fcl::AABB<S> overlap_part, shape_aabb;
+    fcl::computeBV(model2, tf2, shape_aabb);
+    fcl::AABB<S>(tf1 * p[0], tf1 * p[1], tf1 * p[2]).overlap(shape_aabb, overlap_part);
+    result.addCostSource(fcl::CostSource<S>(overlap_part, cost_density), request.num_max_cost_sources);
+  }
+}
+
+}  // namespace fcl_rs
+
+#endif

@@ -1,0 +1,448 @@
+// Triangle-primitive leaf tests (fcl_rs/narrowphase/triangle_shape.h) against exact answers: CGAL's exact oracle
+// for the closed-form shapes, a long double minimisation over the triangle for the iterative ones. Seeded poses
+// near the shape, grazing (touching) triangles, far offsets, degenerate triangles; float and double.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "exact_oracle.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
+#include "test_util.h"
+
+namespace {
+
+using fcl_rs::test::ExactPose;
+using fcl_rs::test::ExactShapeAnswer;
+using fcl_rs::test::ExactTriangle;
+using Vec = Eigen::Vector3d;
+using LVec = Eigen::Matrix<long double, 3, 1>;
+
+/// The exact answer for a world triangle and the shape's pose; support: the shape's point farthest along a
+/// direction (shape frame), for grazing triangles.
+struct Reference
+{
+  std::function<ExactShapeAnswer(const ExactTriangle&, const ExactPose&)> answer;
+  std::function<Vec(const Vec&)> support;
+  bool exact;  ///< CGAL decides (closed-form shapes); else a long double minimisation (iterative shapes)
+};
+
+// ---- Long double distances of a point to the iterative shapes (shape frame) and their minimum over a triangle.
+
+long double pointCylinder(const LVec& y, long double r, long double h)
+{
+  const long double dr = std::max(std::hypot(y.x(), y.y()) - r, 0.0L), dz = std::max(std::abs(y.z()) - h, 0.0L);
+  return std::sqrt(dr * dr + dz * dz);
+}
+
+/// Distance of (rho, z) to the cone's half section, the triangle (0, -h), (r, -h), (0, h).
+long double pointCone(const LVec& y, long double r, long double h)
+{
+  const long double rho = std::hypot(y.x(), y.y()), z = y.z();
+  // Inside: above the base, below the slanted side.
+  const long double side = (rho - r) * (2 * h) + (z + h) * r;  // > 0 beyond the side
+  if (z >= -h && side <= 0) return 0;
+  const auto segment = [&](long double ax, long double az, long double bx, long double bz) {
+    const long double dx = bx - ax, dz = bz - az;
+    const long double t = std::clamp(((rho - ax) * dx + (z - az) * dz) / (dx * dx + dz * dz), 0.0L, 1.0L);
+    return std::hypot(rho - ax - t * dx, z - az - t * dz);
+  };
+  return std::min(segment(0, -h, r, -h), segment(r, -h, 0, h));
+}
+
+/// Distance to the ellipsoid: the root of sum (a_i y_i / (s + a_i^2))^2 = 1 by bisection (Eberly).
+long double pointEllipsoid(const LVec& y, const LVec& a)
+{
+  if (y.cwiseQuotient(a).squaredNorm() <= 1) return 0;
+  const auto F = [&](long double s) {
+    long double f = 0;
+    for (int i = 0; i < 3; ++i)
+    {
+      const long double x = a[i] * y[i] / (s + a[i] * a[i]);
+      f += x * x;
+    }
+    return f;
+  };
+  long double lo = 0, hi = a.cwiseProduct(y).norm();
+  for (int k = 0; k < 80; ++k)
+  {
+    const long double mid = (lo + hi) / 2;
+    (F(mid) > 1 ? lo : hi) = mid;
+  }
+  const long double s = (lo + hi) / 2;
+  LVec x;
+  for (int i = 0; i < 3; ++i) x[i] = a[i] * a[i] * y[i] / (s + a[i] * a[i]);
+  return (x - y).norm();
+}
+
+/// Minimum of a convex function over [0, 1] by golden-section search.
+long double golden(const std::function<long double(long double)>& f)
+{
+  const long double g = (std::sqrt(5.0L) - 1) / 2;
+  long double a = 0, b = 1, c = b - g * (b - a), d = a + g * (b - a), fc = f(c), fd = f(d);
+  for (int k = 0; k < 60; ++k)
+  {
+    if (fc < fd)
+      b = d, d = c, fd = fc, c = b - g * (b - a), fc = f(c);
+    else
+      a = c, c = d, fc = fd, d = a + g * (b - a), fd = f(d);
+  }
+  return std::min({fc, fd, f(0), f(1)});
+}
+
+/// The distance of a triangle (shape frame) to a convex shape given by its point distance: the slices of the
+/// triangle parallel to its edge 1-2 at height u, each minimised along the slice (both convex).
+long double triangleMinimum(const LVec t[3], const std::function<long double(const LVec&)>& point)
+{
+  return golden([&](long double u) {
+    return golden([&](long double s) { return point((1 - u) * t[0] + u * ((1 - s) * t[1] + s * t[2])); });
+  });
+}
+
+/// An iterative shape's reference: the world triangle mapped to the shape's frame by the transposed rotation.
+ExactShapeAnswer iterativeAnswer(const ExactTriangle& a, const ExactPose& pose,
+                                 const std::function<long double(const LVec&)>& point)
+{
+  const Eigen::Matrix<long double, 3, 3> Rt = pose.R.cast<long double>().transpose();
+  LVec t[3];
+  for (int i = 0; i < 3; ++i) t[i] = Rt * (a[i].cast<long double>() - pose.t.cast<long double>());
+  const long double d = triangleMinimum(t, point);
+  return {d <= 0, double(d)};
+}
+
+std::vector<Vec> boxVertices(const Vec& h)
+{
+  std::vector<Vec> v;
+  for (int c = 0; c < 8; ++c) v.emplace_back(c & 1 ? h.x() : -h.x(), c & 2 ? h.y() : -h.y(), c & 4 ? h.z() : -h.z());
+  return v;
+}
+
+/// The box's faces as triangles of boxVertices' indices.
+std::vector<std::array<int, 3>> boxBoundary()
+{
+  return {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4}, {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+}
+
+/// A convex polytope with faces of several sizes: a hexagonal prism, tilted caps of 6 vertices, sides of 4.
+template <typename S>
+std::shared_ptr<fcl::Convex<S>> prism()
+{
+  auto vertices = std::make_shared<std::vector<fcl::Vector3<S>>>();
+  for (int i = 0; i < 6; ++i)
+  {
+    const double a = i * M_PI / 3;
+    vertices->emplace_back(S(0.4 * std::cos(a)), S(0.3 * std::sin(a)), S(0.25));
+  }
+  for (int i = 0; i < 6; ++i)
+  {
+    const double a = i * M_PI / 3;
+    vertices->emplace_back(S(0.4 * std::cos(a)), S(0.3 * std::sin(a)), S(-0.25));
+  }
+  auto faces = std::make_shared<std::vector<int>>(std::vector<int>{6, 0, 1, 2, 3, 4, 5, 6, 11, 10, 9, 8, 7, 6});
+  for (int i = 0; i < 6; ++i)
+  {
+    const int j = (i + 1) % 6;
+    faces->insert(faces->end(), {4, i, i + 6, j + 6, j});
+  }
+  return std::make_shared<fcl::Convex<S>>(vertices, 8, faces);
+}
+
+/// The convex's faces fanned, for the oracle.
+template <typename S>
+std::vector<std::array<int, 3>> fanned(const fcl::Convex<S>& c)
+{
+  std::vector<std::array<int, 3>> out;
+  const auto& f = c.getFaces();
+  std::size_t at = 0;
+  for (int k = 0; k < c.getFaceCount(); ++k)
+  {
+    const int n = f[at];
+    for (int i = 1; i + 1 < n; ++i) out.push_back({f[at + 1], f[at + 1 + i], f[at + 2 + i]});
+    at += std::size_t(n) + 1;
+  }
+  return out;
+}
+
+template <typename S>
+std::vector<Vec> convexVertices(const fcl::Convex<S>& c)
+{
+  std::vector<Vec> out;
+  for (const auto& v : c.getVertices()) out.push_back(v.template cast<double>());
+  return out;
+}
+
+Vec signs(const Vec& n) { return Vec(n.x() >= 0 ? 1 : -1, n.y() >= 0 ? 1 : -1, n.z() >= 0 ? 1 : -1); }
+
+/// Runs `check` for every shape kind with its reference.
+template <typename S>
+void forEachShape(const std::function<void(const std::string&, const fcl::CollisionGeometry<S>&, const Reference&)>& check)
+{
+  const S r = S(0.3), half = S(0.25);
+  {
+    const fcl::Sphere<S> shape(r);
+    check("sphere", shape,
+          {[=](const ExactTriangle& a, const ExactPose& p) { return fcl_rs::test::exactSphere(a, p, r); },
+           [=](const Vec& n) { return Vec(double(r) * n.normalized()); }, true});
+  }
+  {
+    const fcl::Capsule<S> shape(S(0.2), 2 * half);
+    check("capsule", shape,
+          {[=](const ExactTriangle& a, const ExactPose& p) { return fcl_rs::test::exactCapsule(a, p, S(0.2), half); },
+           [=](const Vec& n) { return Vec(Vec(0, 0, n.z() >= 0 ? half : -half) + double(S(0.2)) * n.normalized()); }, true});
+  }
+  {
+    const fcl::Box<S> shape(S(0.6), S(0.375), S(0.25));
+    const Vec h = (shape.side / 2).template cast<double>();
+    check("box", shape,
+          {[=](const ExactTriangle& a, const ExactPose& p) {
+             return fcl_rs::test::exactPolytope(a, p, boxVertices(h), boxBoundary());
+           },
+           [=](const Vec& n) { return Vec(signs(n).cwiseProduct(h)); }, true});
+  }
+  {
+    const auto shape = prism<S>();
+    const auto vertices = convexVertices(*shape);
+    const auto boundary = fanned(*shape);
+    check("convex", *shape,
+          {[=](const ExactTriangle& a, const ExactPose& p) { return fcl_rs::test::exactPolytope(a, p, vertices, boundary); },
+           [=](const Vec& n) {
+             return *std::max_element(vertices.begin(), vertices.end(),
+                                      [&](const Vec& x, const Vec& y) { return x.dot(n) < y.dot(n); });
+           },
+           true});
+  }
+  {
+    const fcl::Plane<S> shape(fcl::Vector3<S>(1, 2, 2), S(0.1));
+    const Vec n = shape.n.template cast<double>();
+    const double d = shape.d;
+    check("plane", shape,
+          {[=](const ExactTriangle& a, const ExactPose& p) { return fcl_rs::test::exactPlane(a, p, n, d); },
+           [=](const Vec&) { return Vec(d * n); }, true});
+  }
+  {
+    const fcl::Halfspace<S> shape(fcl::Vector3<S>(0, -3, 4), S(-0.2));
+    const Vec n = shape.n.template cast<double>();
+    const double d = shape.d;
+    check("halfspace", shape,
+          {[=](const ExactTriangle& a, const ExactPose& p) { return fcl_rs::test::exactHalfspace(a, p, n, d); },
+           [=](const Vec&) { return Vec(d * n); }, true});
+  }
+  {
+    const fcl::Cylinder<S> shape(S(0.2), 2 * half);
+    check("cylinder", shape,
+          {[=](const ExactTriangle& a, const ExactPose& p) {
+             return iterativeAnswer(a, p, [=](const LVec& y) { return pointCylinder(y, S(0.2), half); });
+           },
+           [=](const Vec& n) {
+             const double rho = std::hypot(n.x(), n.y());
+             return Vec(rho > 0 ? double(S(0.2)) * n.x() / rho : 0, rho > 0 ? double(S(0.2)) * n.y() / rho : 0, n.z() >= 0 ? half : -half);
+           },
+           false});
+  }
+  {
+    const fcl::Cone<S> shape(S(0.2), 2 * half);
+    check("cone", shape,
+          {[=](const ExactTriangle& a, const ExactPose& p) {
+             return iterativeAnswer(a, p, [=](const LVec& y) { return pointCone(y, S(0.2), half); });
+           },
+           [=](const Vec& n) {
+             const double rho = std::hypot(n.x(), n.y());
+             const Vec rim(rho > 0 ? double(S(0.2)) * n.x() / rho : 0, rho > 0 ? double(S(0.2)) * n.y() / rho : 0, -half);
+             return rim.dot(n) > half * n.z() ? rim : Vec(0, 0, half);
+           },
+           false});
+  }
+  {
+    const fcl::Ellipsoid<S> shape(S(0.4), S(0.25), S(0.15));
+    const Vec a = shape.radii.template cast<double>();
+    check("ellipsoid", shape,
+          {[=](const ExactTriangle& t, const ExactPose& p) {
+             return iterativeAnswer(t, p, [=](const LVec& y) { return pointEllipsoid(y, a.cast<long double>()); });
+           },
+           [=](const Vec& n) {
+             const Vec s = a.cwiseProduct(n);
+             return Vec(a.cwiseProduct(s) / s.norm());
+           },
+           false});
+  }
+}
+
+/// One shape type's leaf on mesh triangle p at poses tf1 (mesh) and tf2 (shape), checked against the reference.
+struct Tally
+{
+  int meeting = 0, apart = 0, reported = 0;
+  double worst_relative = 0;
+};
+
+template <typename S, typename Shape>
+void checkTriangle(const Shape& shape, const Reference& ref, const fcl::Vector3<S> p[3], const fcl::Transform3<S>& tf1,
+                   const fcl::Transform3<S>& tf2, bool must_report, Tally& tally)
+{
+  const fcl_rs::TriangleShapeLeaf<Shape> leaf(shape, tf1, tf2);
+  const ExactPose pose{tf2.linear().template cast<double>(), tf2.translation().template cast<double>()};
+  // The verdict's contract is on the world vertices as computed (in S); the distance is compared on the world
+  // vertices computed in double, as the leaf maps them.
+  ExactTriangle as_computed, in_double;
+  for (int i = 0; i < 3; ++i)
+  {
+    as_computed[i] = (tf1 * p[i]).template cast<double>();
+    in_double[i] = tf1.template cast<double>() * p[i].template cast<double>();
+  }
+  const double tol = leaf.tolerance(p);
+  const double scale = std::max({double(tf1.translation().cwiseAbs().maxCoeff()),
+                                 double(tf2.translation().cwiseAbs().maxCoeff()), double(fcl_rs::largestCoordinate(p)), 1.0});
+  const double eps = std::numeric_limits<double>::epsilon();
+  // float: the answer's rounding, and the leaf inverts the shape's rotation, orthonormal only to float rounding, by
+  // its transpose, where the oracle maps the shape exactly as written (a few float ulps of the coordinates).
+  const bool single = std::is_same<S, float>::value;
+  const double relative = single ? 2 * double(std::numeric_limits<float>::epsilon()) : 1e-9;
+  const double pose_rounding = single ? 8 * double(std::numeric_limits<float>::epsilon()) * scale : 64 * eps * scale;
+  // The iterative reference's own error: golden sections to ~1e-15 of the triangle's size.
+  const double absolute = pose_rounding + (ref.exact ? 0 : 1e-12 * scale);
+
+  const bool meets = leaf.meets(p);
+  fcl::Vector3<S> on_mesh, on_shape;
+  const S d = leaf.distance(p, on_mesh, on_shape);
+  EXPECT_EQ(meets, d == S(-1)) << "the verdict and the distance disagree: " << d;
+  tally.reported += meets;
+  if (must_report)
+  {
+    EXPECT_TRUE(meets) << "a grazing triangle is not reported";
+  }
+  const ExactShapeAnswer contract = ref.answer(as_computed, pose);
+  if (contract.meets)
+  {
+    ++tally.meeting;
+    EXPECT_TRUE(meets) << "a triangle that meets the shape exactly is not reported";
+  }
+  const ExactShapeAnswer exact = ref.answer(in_double, pose);
+  if (meets)
+  {
+    EXPECT_LE(exact.distance, 2 * tol + absolute) << "a reported triangle is farther than the tolerance";
+    return;
+  }
+  ++tally.apart;
+  EXPECT_FALSE(exact.meets);
+  const double error = std::abs(double(d) - exact.distance);
+  tally.worst_relative = std::max(tally.worst_relative, error / std::max(exact.distance, 1e-300));
+  EXPECT_LE(error, relative * exact.distance + absolute) << "distance " << double(d) << ", exact " << exact.distance;
+  // Nearest points: as far apart as the distance, one on the triangle, one on the shape (both within rounding).
+  // The world points are rounded to S.
+  const double point_tol = single ? 8 * double(std::numeric_limits<float>::epsilon()) * scale : absolute;
+  EXPECT_NEAR((on_mesh - on_shape).norm(), d, relative * d + 2 * point_tol);
+  const ExactPose at_point{Eigen::Matrix3d::Identity(), on_mesh.template cast<double>()};
+  EXPECT_LE(fcl_rs::test::exactSphere(in_double, at_point, 0).distance, point_tol) << "nearest point 0 is off the triangle";
+  const ExactTriangle shape_point{on_shape.template cast<double>(), on_shape.template cast<double>(),
+                                  on_shape.template cast<double>()};
+  EXPECT_LE(ref.answer(shape_point, pose).distance, point_tol) << "nearest point 1 is off the shape";
+}
+
+/// f(shape) with geometry cast to its shape type.
+template <typename S, typename F>
+void withShape(const fcl::CollisionGeometry<S>& geometry, const F& f)
+{
+  switch (geometry.getNodeType())
+  {
+    case fcl::GEOM_SPHERE: return f(static_cast<const fcl::Sphere<S>&>(geometry));
+    case fcl::GEOM_CAPSULE: return f(static_cast<const fcl::Capsule<S>&>(geometry));
+    case fcl::GEOM_BOX: return f(static_cast<const fcl::Box<S>&>(geometry));
+    case fcl::GEOM_CONVEX: return f(static_cast<const fcl::Convex<S>&>(geometry));
+    case fcl::GEOM_PLANE: return f(static_cast<const fcl::Plane<S>&>(geometry));
+    case fcl::GEOM_HALFSPACE: return f(static_cast<const fcl::Halfspace<S>&>(geometry));
+    case fcl::GEOM_CYLINDER: return f(static_cast<const fcl::Cylinder<S>&>(geometry));
+    case fcl::GEOM_CONE: return f(static_cast<const fcl::Cone<S>&>(geometry));
+    case fcl::GEOM_ELLIPSOID: return f(static_cast<const fcl::Ellipsoid<S>&>(geometry));
+    default: FAIL() << "unexpected shape";
+  }
+}
+
+template <typename S>
+class TriangleShape : public ::testing::Test {};
+TYPED_TEST_SUITE(TriangleShape, fcl_rs::test::Scalars);
+
+/// Seeded triangles around each shape, at offsets near the origin and far from it, generic and degenerate.
+TYPED_TEST(TriangleShape, SeededPosesMatchTheExactAnswer)
+{
+  using S = TypeParam;
+  forEachShape<S>([](const std::string& name, const fcl::CollisionGeometry<S>& geometry, const Reference& ref) {
+    const std::string what = "triangle-shape/seeded/" + name + "/" + fcl_rs::test::scalarName<S>();
+    auto rng = fcl_rs::test::seededRng(what);
+    std::uniform_real_distribution<double> u(-1, 1);
+    Tally tally;
+    const int count = ref.exact ? 24 : 6;
+    for (int i = 0; i < count; ++i)
+    {
+      SCOPED_TRACE(what + " #" + std::to_string(i));
+      const S offset = i % 4 == 3 ? S(1000) : S(1);
+      const fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, offset);
+      const fcl::Transform3<S> tf2 = fcl_rs::test::randomPose<S>(rng, offset);
+      // World points within about the shape's size of its centre, into the mesh's frame.
+      fcl::Vector3<S> p[3];
+      const Vec c = tf2.translation().template cast<double>() + 0.5 * Vec(u(rng), u(rng), u(rng));
+      for (auto& v : p)
+        v = (tf1.inverse(Eigen::Isometry) * fcl::Vector3<S>((c + 0.35 * Vec(u(rng), u(rng), u(rng))).template cast<S>()));
+      if (i % 5 == 1) p[2] = p[0] + S(0.5) * (p[1] - p[0]);  // collinear
+      if (i % 5 == 2) p[1] = p[2] = p[0];                   // a point
+      withShape(geometry, [&](const auto& shape) { checkTriangle<S>(shape, ref, p, tf1, tf2, false, tally); });
+    }
+    std::cout << "[triangle-shape] " << what << ": " << count << " triangles, " << tally.meeting << " meeting exactly, "
+              << tally.reported << " reported, " << tally.apart << " apart, worst relative distance error "
+              << tally.worst_relative << "\n";
+    // Not vacuous: both verdicts occur.
+    EXPECT_GE(tally.apart, count / 5) << what;
+    EXPECT_GE(tally.reported, count / 10) << what;
+  });
+}
+
+/// Triangles touching each shape at a point of its surface (its support point along a direction, the triangle
+/// in the plane normal to it there): every one is reported, whatever the offset.
+TYPED_TEST(TriangleShape, GrazingTrianglesAreReported)
+{
+  using S = TypeParam;
+  forEachShape<S>([](const std::string& name, const fcl::CollisionGeometry<S>& geometry, const Reference& ref) {
+    const std::string what = "triangle-shape/grazing/" + name + "/" + fcl_rs::test::scalarName<S>();
+    auto rng = fcl_rs::test::seededRng(what);
+    std::uniform_real_distribution<double> u(-1, 1);
+    Tally tally;
+    const int count = ref.exact ? 16 : 6;
+    for (int i = 0; i < count; ++i)
+    {
+      SCOPED_TRACE(what + " #" + std::to_string(i));
+      const S offset = i % 2 ? S(500) : S(1);
+      const fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, offset);
+      fcl::Transform3<S> tf2 = fcl_rs::test::randomPose<S>(rng, offset);
+      // Every fourth case an axis-aligned shape at an integer position: the contact is then exact in S too.
+      if (i % 4 == 0) tf2 = fcl::Transform3<S>(fcl::Translation3<S>(fcl::Vector3<S>(1, -2, 3)));
+      Vec n(u(rng), u(rng), u(rng));
+      if (geometry.getNodeType() == fcl::GEOM_PLANE) n = static_cast<const fcl::Plane<S>&>(geometry).n.template cast<double>();
+      if (geometry.getNodeType() == fcl::GEOM_HALFSPACE)
+        n = static_cast<const fcl::Halfspace<S>&>(geometry).n.template cast<double>();
+      const Vec touch = ref.support(n);
+      const Vec a = n.unitOrthogonal(), b = n.cross(a).normalized();
+      // The touching point as a vertex, or inside the triangle, in the plane normal to n.
+      Vec corners[3] = {Vec::Zero(), 0.3 * a, 0.3 * b};
+      if (i % 3 == 1) corners[0] = -0.1 * a - 0.1 * b;
+      fcl::Vector3<S> p[3];
+      for (int k = 0; k < 3; ++k)
+      {
+        const Vec world = tf2.template cast<double>() * (touch + corners[k]);
+        p[k] = (tf1.inverse(Eigen::Isometry) * fcl::Vector3<S>(world.template cast<S>()));
+      }
+      withShape(geometry, [&](const auto& shape) { checkTriangle<S>(shape, ref, p, tf1, tf2, true, tally); });
+    }
+    std::cout << "[triangle-shape] " << what << ": " << count << " grazing triangles, " << tally.meeting
+              << " meeting exactly, " << tally.reported << " reported\n";
+    EXPECT_EQ(tally.reported, count) << what;
+    if (ref.exact)
+    {
+      EXPECT_GE(tally.meeting, 1) << what << ": no exactly touching case";
+    }
+  });
+}
+
+}  // namespace
