@@ -19,6 +19,7 @@
 #include "fcl_rs/narrowphase/triangle_intersection.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/descent.h"
+#include "fcl_rs/traversal/mesh_mesh_descent.h"
 #include "fcl_rs/traversal/moved_frames.h"
 #include "fcl_rs/traversal/shape_switch.h"
 
@@ -114,37 +115,19 @@ namespace detail {
 /// (docs/kernel.md); an exhaustive request visits every overlapping pair in any order, and ordering would cost
 /// it about 3 %.
 template <typename S>
-class MeshCollisionDescent
+class MeshCollisionDescent : public MeshMeshDescent<S>
 {
 public:
   using Node = MeshCollisionTraversalNodeRS<S>;
-  using BVNode = fcl::BVNode<RS<S>>;
-  struct Pair
-  {
-    int b1, b2;
-  };
-  struct Visit
-  {
-    int b1, b2;
-    const BVNode& n1;
-    const BVNode& n2;
-    bool leaf1, leaf2;
-  };
-  static constexpr int kMaxChildren = 2;
+  using Base = MeshMeshDescent<S>;
+  using typename Base::Pair;
+  using typename Base::Visit;
 
   explicit MeshCollisionDescent(Node& node)
-    : node_(node), model1_(*node.model1), model2_(*node.model2), moved_(node.R, node.T, model2_, node.world_offsets),
+    : Base(*node.model1, *node.model2), node_(node), moved_(node.R, node.T, *node.model2, node.world_offsets),
       nearer_first_(!node.request.enable_cost && node.request.num_max_contacts <= kNearerFirstMaxContacts)
   {
   }
-  Visit visit(const Pair& p) const
-  {
-    const BVNode& n1 = model1_.getBV(p.b1);
-    const BVNode& n2 = model2_.getBV(p.b2);
-    return Visit{p.b1, p.b2, n1, n2, isLeaf(n1), isLeaf(n2)};
-  }
-  S size1(const Visit& v) const { return v.n1.bv.size(); }
-  S size2(const Visit& v) const { return v.n2.bv.size(); }
   bool leafTest(const Visit& v)
   {
     node_.Node::leafTesting(v.b1, v.b2);
@@ -166,7 +149,8 @@ public:
       if (nearer_first_)
       {
         const fcl::Vector3<S>& c2 = moved_(v.b2).origin;
-        if ((model1_.getBV(far).bv.origin - c2).squaredNorm() < (model1_.getBV(near).bv.origin - c2).squaredNorm())
+        if ((this->model1_.getBV(far).bv.origin - c2).squaredNorm() <
+            (this->model1_.getBV(near).bv.origin - c2).squaredNorm())
           std::swap(near, far);
       }
       out[0] = Pair{near, v.b2};
@@ -188,8 +172,6 @@ public:
 
 private:
   Node& node_;
-  const fcl::BVHModel<RS<S>>& model1_;
-  const fcl::BVHModel<RS<S>>& model2_;
   MovedFrames<S, BoxedFrame<S>> moved_;
   bool nearer_first_;
 };

@@ -22,6 +22,7 @@
 #include "fcl_rs/narrowphase/triangle_intersection.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/descent.h"
+#include "fcl_rs/traversal/mesh_mesh_descent.h"
 #include "fcl_rs/traversal/moved_frames.h"
 #include "fcl_rs/traversal/per_query_table.h"
 #include "fcl_rs/traversal/shape_switch.h"
@@ -109,38 +110,21 @@ namespace detail {
 /// model2 has its frame moved into model1's coordinates once per query, not once per bound, and so has each of
 /// model2's vertices (as FCL's triangle distance moves them) when first used.
 template <typename S>
-class MeshDistanceDescent
+class MeshDistanceDescent : public MeshMeshDescent<S>
 {
 public:
   using Node = MeshDistanceTraversalNodeRS<S>;
-  using BVNode = fcl::BVNode<RS<S>>;
+  using Base = MeshMeshDescent<S>;
+  using typename Base::Pair;
+  using typename Base::Visit;
+  using typename Base::BVNode;
   using V = fcl::Vector3<S>;
-  struct Pair
-  {
-    int b1, b2;
-  };
-  struct Visit
-  {
-    int b1, b2;
-    const BVNode& n1;
-    const BVNode& n2;
-    bool leaf1, leaf2;
-  };
-  static constexpr int kMaxChildren = 2;
 
   explicit MeshDistanceDescent(Node& node)
-    : node_(node), model1_(*node.model1), model2_(*node.model2), R_(node.tf.linear()), T_(node.tf.translation()),
-      moved_(R_, T_, model2_), moved_vertices_(std::size_t(std::max(model2_.num_vertices, 0)))
+    : Base(*node.model1, *node.model2), node_(node), R_(node.tf.linear()), T_(node.tf.translation()),
+      moved_(R_, T_, *node.model2), moved_vertices_(std::size_t(std::max(node.model2->num_vertices, 0)))
   {
   }
-  Visit visit(const Pair& p) const
-  {
-    const BVNode& n1 = model1_.getBV(p.b1);
-    const BVNode& n2 = model2_.getBV(p.b2);
-    return Visit{p.b1, p.b2, n1, n2, isLeaf(n1), isLeaf(n2)};
-  }
-  S size1(const Visit& v) const { return v.n1.bv.size(); }
-  S size2(const Visit& v) const { return v.n2.bv.size(); }
   int children(const Visit& v, bool first, Pair* out) const
   {
     out[0] = first ? Pair{leftChild(v.n1), v.b2} : Pair{v.b1, leftChild(v.n2)};
@@ -151,8 +135,8 @@ public:
   void leafTest(const Visit& v) { node_.Node::leafTesting(v.b1, v.b2); }  // two single-triangle models
   S bound(const Pair& p)
   {
-    const BVNode& n1 = model1_.getBV(p.b1);
-    const BVNode& n2 = model2_.getBV(p.b2);
+    const BVNode& n1 = this->model1_.getBV(p.b1);
+    const BVNode& n2 = this->model2_.getBV(p.b2);
     if (!isLeaf(n1) || !isLeaf(n2)) return node_.Node::BVTesting(p.b1, p.b2, moved_(p.b2));
     const int id1 = primitiveId(n1), id2 = primitiveId(n2);
     const auto p_vertices = triangleVertices(node_.vertices1, node_.tri_indices1[id1]);
@@ -179,8 +163,6 @@ private:
   }
 
   Node& node_;
-  const fcl::BVHModel<RS<S>>& model1_;
-  const fcl::BVHModel<RS<S>>& model2_;
   const fcl::Matrix3<S> R_;
   const fcl::Vector3<S> T_;
   MovedFrames<S> moved_;
