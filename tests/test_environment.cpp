@@ -208,8 +208,12 @@ TYPED_TEST(EnvironmentTest, QueriesAgreeWithBruteForce)
                   points_tolerance);
     }
     // The scene exercises both answers and the world part.
-    EXPECT_GT(colliding, 0);
-    EXPECT_GT(world, 0);
+    // The sanitized build's four configurations may all be free; the twelve of the others must not.
+    if (!test::kSanitized)
+    {
+      EXPECT_GT(colliding, 0);
+      EXPECT_GT(world, 0);
+    }
   }
 }
 
@@ -346,7 +350,8 @@ TYPED_TEST(EnvironmentTest, MotionChecksAgreeWithDenseSampling)
       }
       ++segments;
     }
-    EXPECT_GT(colliding, 0);
+    // The sanitized build's three segments may all be free; the eight of the others must not.
+    if (!test::kSanitized) { EXPECT_GT(colliding, 0); }
     EXPECT_LT(colliding, 2 * segments);
   }
 }

@@ -114,9 +114,12 @@ TYPED_TEST(Validate, HonestRotationsAreRigid)
 
 TYPED_TEST(Validate, BadPosesAreRefusedWithTheirDefect)
 {
+  // A lambda cannot capture a structured binding in C++17 (clang refuses it): named references instead.
   using S = TypeParam;
-  for (const auto& [tf, defect] : badPoses<S>())
+  for (const auto& bad : badPoses<S>())
   {
+    const auto& tf = bad.first;
+    const auto& defect = bad.second;
     SCOPED_TRACE(defect);
     EXPECT_FALSE(fcl_rs::isRigidTransform(tf));
     expectMessage([&] { fcl_rs::requireRigidTransform(tf, "fcl_rs::api", "tf2"); },
@@ -179,8 +182,14 @@ TYPED_TEST(Validate, EntryPointsRefuseBadPoses)
   const fcl::Transform3<S> I = fcl::Transform3<S>::Identity();
   const std::vector<std::pair<std::shared_ptr<fcl::CollisionGeometry<S>>, std::shared_ptr<fcl::CollisionGeometry<S>>>>
       pairs = {{mesh, mesh}, {mesh, sphere}, {sphere, mesh}, {sphere, box}};
-  for (const auto& [tf, defect] : badPoses<S>())
-    for (const auto& [a, b] : pairs)
+  for (const auto& bad : badPoses<S>())
+  {
+    const auto& tf = bad.first;
+    const auto& defect = bad.second;
+    for (const auto& pair : pairs)
+    {
+      const auto& a = pair.first;
+      const auto& b = pair.second;
       for (const bool bad_first : {true, false})
       {
         SCOPED_TRACE(defect + (bad_first ? " first, " : " second, ") + std::to_string(a->getNodeType()) + "/" +
@@ -212,8 +221,12 @@ TYPED_TEST(Validate, EntryPointsRefuseBadPoses)
                         {"fcl_rs::continuousCollide: o" + arg + "->getTransform() is not a rigid transform: ", defect});
         }
       }
-  for (const auto& [tf, defect] : badPoses<S>())
+    }
+  }
+  for (const auto& bad : badPoses<S>())
   {
+    const auto& tf = bad.first;
+    const auto& defect = bad.second;
     fcl::CollisionResult<S> cr;
     expectMessage([&] { fcl_rs::collideWithStats(*mesh, I, *mesh, tf, fcl::CollisionRequest<S>(), cr); },
                   {"fcl_rs::collideWithStats: tf2 is not a rigid transform: ", defect});
