@@ -1,9 +1,10 @@
 // RS mesh against fcl::OcTree: collision and distance on the descent engine, the octree's cells tested against
 // the RS tree in the mesh's frame (nothing of the mesh is copied or refitted per query). Queries answer what FCL's
 // octree-mesh traversal (fcl/narrowphase/detail/traversal/octree/octree_solver-inl.h) answers: the same cells
-// count (occupancy and free thresholds, cost-only unknown cells), the same leaf tests (FCL's box-triangle tests of
-// the cell's box at the octree's pose against the triangle at the mesh's), and results name the octree first
-// whatever the argument order, as FCL's do.
+// count (occupancy and free thresholds, cost-only unknown cells), cost sources and contacts are FCL's, and results
+// name the octree first whatever the argument order, as FCL's do. The leaf test is the mesh-box one of mesh-shape
+// queries (narrowphase/triangle_shape.h: exact, with the leaf tolerance) on the cell's box at the octree's pose,
+// where FCL runs GJK; FCL's solver gives only the contact details.
 #ifndef FCL_RS_OCTREE_TRAVERSAL_H
 #define FCL_RS_OCTREE_TRAVERSAL_H
 
@@ -26,6 +27,7 @@
 #include "fcl_rs/bv/rs.h"
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/bvh/node_links.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/descent.h"
 
 namespace fcl_rs {
@@ -67,10 +69,17 @@ public:
   OcTreeMeshQuery(const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<S>& tf_mesh, const fcl::OcTree<S>& octree,
                   const fcl::Transform3<S>& tf_octree, const Solver& solver, const Request& request, Result& result)
     : solver_(solver), request_(request), result_(result), mesh_(mesh), tf_mesh_(tf_mesh), octree_(octree),
-      tf_octree_(tf_octree),
-      world_offsets_(tf_mesh.translation().template lpNorm<1>() + tf_octree.translation().template lpNorm<1>())
+      tf_octree_(tf_octree)
   {
     fcl::relativeTransform(tf_mesh, tf_octree, R_, T_);
+    // The leaf tolerance's terms (TriangleShapeLeaf::boundOffsets) that do not depend on the cell: the poses'
+    // translations, the mesh's origin in the octree's frame and the mesh's extent (the root's points lie within
+    // |origin|_1 + 2 reach of the mesh's frame origin).
+    const RS<S>& root = mesh.getBV(0).bv;
+    const S mesh_reach = root.origin.template lpNorm<1>() + 2 * Box<S>(root).reach();
+    const fcl::Vector3<S> mesh_in_octree = tf_octree.inverse(Eigen::Isometry) * tf_mesh.translation();
+    leaf_offsets_ = tf_mesh.translation().template lpNorm<1>() + tf_octree.translation().template lpNorm<1>() +
+                    mesh_in_octree.template lpNorm<1>() + 6 * mesh_reach;
     cells_.reserve(256);
   }
 
@@ -96,11 +105,10 @@ public:
   {
     return overlap(c.moved, n1.bv, c.bv, OverlapTest::kBoxed);
   }
-  /// Whether the cell's box may meet the triangle of the mesh's leaf: the triangle against the box's nine slabs
+  /// Whether the cell's box may meet triangle p of the mesh's leaf: the triangle against the box's nine slabs
   /// (detail::triangleOverlap). Tighter than overlaps() and far cheaper than the box-triangle test it filters.
-  bool mayTouch(const BVNode& leaf1, const OcTreeCell<S>& c) const
+  bool mayTouch(const BVNode& leaf1, const std::array<fcl::Vector3<S>, 3>& p, const OcTreeCell<S>& c) const
   {
-    const auto p = triangleVertices(mesh_.vertices, mesh_.tri_indices[primitiveId(leaf1)]);
     return triangleOverlap(p.data(), leaf1.bv, c.moved, c.bv);
   }
   /// The cell as FCL's leaf tests see it: a box at the octree's pose.
@@ -150,13 +158,20 @@ protected:
   Result& result_;
 
 private:
+  /// The cell's RS, moved into the mesh's frame with its rounding offsets widened by the leaf tolerance's terms
+  /// (as ShapeBound::coverLeaves) of every cell inside it: a leaf cell's centre c' and half extent h' give
+  /// |box pose's translation|_1 <= |t_octree|_1 + sqrt(3) |c'|_1 and |mesh in the box's frame|_1 <=
+  /// |mesh in the octree's frame|_1 + |c'|_1, with |c'|_1 <= |c|_1 + 3 h and h' <= h; so that no test of the
+  /// cell prunes a triangle the leaf test reports.
   int addCell(const OcTreeNode* node, const fcl::AABB<S>& box)
   {
     const fcl::Vector3<S> half = (box.max_ - box.min_) / 2;
+    const S h = half.maxCoeff();
     fcl::Transform3<S> at = fcl::Transform3<S>::Identity();
     at.translation() = box.center();
     const RS<S> bv = symmetricShapeRS<S>(at, [&](const fcl::Vector3<S>& dir) { return dir.cwiseAbs().dot(half); });
-    cells_.push_back(OcTreeCell<S>{node, box, bv, BoxedFrame<S>(R_, T_, bv, world_offsets_)});
+    const S offsets = leaf_offsets_ + 3 * (box.center().template lpNorm<1>() + 3 * h) + 6 * h;
+    cells_.push_back(OcTreeCell<S>{node, box, bv, BoxedFrame<S>(R_, T_, bv, offsets)});
     return int(cells_.size() - 1);
   }
 
@@ -166,7 +181,7 @@ private:
   const fcl::Transform3<S>& tf_octree_;
   fcl::Matrix3<S> R_;  ///< the octree's frame in the mesh's: x_mesh = R x_octree + T
   fcl::Vector3<S> T_;
-  S world_offsets_;
+  S leaf_offsets_;  ///< the leaf tolerance's terms common to every cell
   std::vector<OcTreeCell<S>> cells_;
 };
 
@@ -223,29 +238,28 @@ public:
   }
 
 private:
-  /// FCL's box-triangle intersection of the cell and the leaf's triangle, behind the triangle filter; contact (when
-  /// given) receives FCL's contact, with its position, normal and depth when `with_geometry`.
+  /// The leaf test of mesh-shape queries (TriangleShapeLeaf::meets) of the cell's box at the octree's pose and
+  /// the leaf's triangle, behind the triangle filter; contact (when given) receives FCL's contact, with position,
+  /// normal and depth when `with_geometry` (shapeTriangleContact).
   bool touches(const Visit& v, const OcTreeCell<S>& c, bool with_geometry, fcl::Contact<S>* contact = nullptr)
   {
-    if (!this->mayTouch(v.n1, c)) return false;
+    const auto p = this->triangle(v.n1);
+    if (!this->mayTouch(v.n1, p, c)) return false;
     fcl::Box<S> box;
     fcl::Transform3<S> box_tf;
     this->worldBox(c, box, box_tf);
-    const auto t = this->triangle(v.n1);
+    const TriangleShapeLeaf<fcl::Box<S>> leaf(box, this->meshPose(), box_tf);
+    if (!leaf.meets(p.data())) return false;
+    if (!contact) return true;
     const int id = primitiveId(v.n1);
     if (!with_geometry)
     {
-      if (!this->solver_.shapeTriangleIntersect(box, box_tf, t[0], t[1], t[2], this->meshPose(), nullptr, nullptr,
-                                                nullptr))
-        return false;
-      if (contact) *contact = fcl::Contact<S>(&this->octree(), &this->mesh(), this->cellId(c), id);
+      *contact = fcl::Contact<S>(&this->octree(), &this->mesh(), this->cellId(c), id);
       return true;
     }
     fcl::Vector3<S> position, normal;
     S depth;
-    if (!this->solver_.shapeTriangleIntersect(box, box_tf, t[0], t[1], t[2], this->meshPose(), &position, &depth,
-                                              &normal))
-      return false;
+    shapeTriangleContact(leaf, p, box, box_tf, this->meshPose(), &this->solver_, position, normal, depth);
     *contact = fcl::Contact<S>(&this->octree(), &this->mesh(), this->cellId(c), id, position, normal, depth);
     return true;
   }
@@ -268,7 +282,8 @@ private:
 
 /// The descent policy of octree-mesh distance (descendBestFirst): only occupied cells count (FCL's
 /// OcTreeMeshDistanceRecurse); a pair is bounded by the RS bound of the mesh's node and the cell's box, and a
-/// pair of leaves, when the descent reaches it, is measured by FCL's box-triangle distance.
+/// pair of leaves, when the descent reaches it, is measured by the mesh-shape leaf distance (exact; -1 where the
+/// leaf test meets, as for shapes).
 template <typename S, typename Solver>
 class OcTreeMeshDistanceDescent
   : public OcTreeMeshQuery<S, Solver, fcl::DistanceRequest<S>, fcl::DistanceResult<S>>
@@ -297,10 +312,9 @@ public:
     fcl::Box<S> box;
     fcl::Transform3<S> box_tf;
     this->worldBox(c, box, box_tf);
-    const auto t = this->triangle(v.n1);
-    S d;
-    fcl::Vector3<S> on_cell = fcl::Vector3<S>::Zero(), on_triangle = fcl::Vector3<S>::Zero();
-    this->solver_.shapeTriangleDistance(box, box_tf, t[0], t[1], t[2], this->meshPose(), &d, &on_cell, &on_triangle);
+    const TriangleShapeLeaf<fcl::Box<S>> leaf(box, this->meshPose(), box_tf);
+    fcl::Vector3<S> on_cell, on_triangle;
+    const S d = leaf.distance(this->triangle(v.n1).data(), on_triangle, on_cell);
     this->result_.update(d, &this->octree(), &this->mesh(), this->cellId(c), primitiveId(v.n1), on_cell, on_triangle);
   }
   int children(const Visit& v, bool first, Pair* out) { return Base::children(v, first, out, false); }
