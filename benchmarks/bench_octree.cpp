@@ -1,19 +1,24 @@
-// fcl_rs_bench_octree: an RS mesh against fcl::OcTree maps (collision and distance per query) beside FCL's OBBRSS
-// and OBB meshes against the same maps.
+// fcl_rs_bench_octree: µs per query of an RS mesh against fcl::OcTree maps (collision and distance) beside FCL's
+// OBBRSS, OBB, RSS, kIOS and AABB meshes of the same triangles against the same maps.
 
 #include "bench_common.h"
 #include "common/command_line.h"
 
 #include <fcl/geometry/octree/octree.h>
+#include <fcl/math/bv/AABB.h>
 #include <fcl/math/bv/OBB.h>
 #include <fcl/math/bv/OBBRSS.h>
+#include <fcl/math/bv/RSS.h>
+#include <fcl/math/bv/kIOS.h>
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
 #include <fcl_rs/mesh/surface_octree.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,20 +30,24 @@ using namespace fcl_rs::bench;
 struct Options
 {
   int queries = 200;
+  int passes = 7;
   unsigned long long seed = 1;
   double scan_cell = 0.015, room_cell = 0.02;
   std::string query_mesh = "hand_lowres.obj";
 };
 
 const char* kDescription =
-    "Octree maps: an RS mesh against fcl::OcTree through fcl_rs::collide and fcl_rs::distance, FCL's OBBRSS and\n"
-    "OBB meshes (the same triangles) through fcl::collide and fcl::distance. Maps: a scanned mesh\n"
+    "Octree maps: an RS mesh against fcl::OcTree through fcl_rs::collide and fcl_rs::distance; FCL's OBBRSS, OBB,\n"
+    "RSS, kIOS and AABB meshes (the same triangles) through fcl::collide and fcl::distance (FCL's octree-mesh\n"
+    "traversal keeps the mesh in its frame for every type: no per-query rebuild). Maps: a scanned mesh\n"
     "(../shared/data/models/dragon.obj scaled to 1 m) with its surface sampled into --scan-cell cells, and a\n"
-    "5 x 4 x 2.5 m room (walls, floor, a table, a shelf, boxes) sampled into --room-cell cells. Query object:\n"
-    "--query-mesh scaled to 0.25 m, N poses per map with uniform rotations, centred at uniform points of the\n"
-    "map's occupied cells offset by up to 0.15 m, so that part of the poses collide. Collision: the first contact\n"
-    "(the default request); distance: the default request, non-colliding poses only. Time: thread CPU time,\n"
-    "best of >= 3 passes over all poses, per query.";
+    "5 x 4 x 2.5 m room (walls, floor, ceiling, a table, a shelf, boxes) sampled into --room-cell cells. Query\n"
+    "object: --query-mesh scaled to 0.25 m, --queries poses per map with uniform rotations, centred at uniform\n"
+    "points of the map's occupied cells offset by up to 0.15 m, so that part of the poses collide. Collision: the\n"
+    "first contact (the default request); distance: the default request, poses no type finds colliding. Time:\n"
+    "the thread's CPU time of a pass over all poses, --passes passes interleaved over the types; printed: the\n"
+    "median pass per query, [min, max] over passes; RS/best: RS's median over the fastest other type's median, with\n"
+    "[min, max] of the per-pass ratio against that type.";
 
 Mesh scaledTo(Mesh m, double size)
 {
@@ -54,7 +63,7 @@ Mesh scaledTo(Mesh m, double size)
   return m;
 }
 
-/// A box mesh with its lowest corner at `at`.
+/// The surface of an x by y by z box with its lowest corner at `at`.
 void addBox(octomap::OcTree& map, double x, double y, double z, const Vector3d& at)
 {
   Transform3d pose = Transform3d::Identity();
@@ -65,68 +74,101 @@ void addBox(octomap::OcTree& map, double x, double y, double z, const Vector3d& 
 std::shared_ptr<octomap::OcTree> roomMap(double cell)
 {
   auto map = std::make_shared<octomap::OcTree>(cell);
-  addBox(*map, 5.0, 4.0, 2.5, Vector3d(0, 0, 0));       // walls, floor and ceiling
-  addBox(*map, 1.6, 0.9, 0.75, Vector3d(1.5, 1.2, 0));   // table
-  addBox(*map, 0.4, 1.8, 2.0, Vector3d(0.05, 2.0, 0));   // shelf
-  addBox(*map, 0.5, 0.4, 0.3, Vector3d(1.7, 1.4, 0.75)); // boxes on the table
+  addBox(*map, 5.0, 4.0, 2.5, Vector3d(0, 0, 0));        // walls, floor and ceiling
+  addBox(*map, 1.6, 0.9, 0.75, Vector3d(1.5, 1.2, 0));    // table
+  addBox(*map, 0.4, 1.8, 2.0, Vector3d(0.05, 2.0, 0));    // shelf
+  addBox(*map, 0.5, 0.4, 0.3, Vector3d(1.7, 1.4, 0.75));  // boxes on the table
   addBox(*map, 0.3, 0.3, 0.4, Vector3d(2.5, 1.5, 0.75));
   return map;
 }
 
-struct Row
+/// One tree type of the query mesh: its geometry and whether fcl_rs or FCL answers it.
+struct Type
 {
-  double us_collide = 0, us_distance = 0;
-  std::size_t collisions = 0;
+  std::string name;
+  std::shared_ptr<fcl::CollisionGeometry<S>> mesh;
+  bool rs;
 };
 
-template <typename Geometry>
-Row timeQueries(const Geometry* mesh, const fcl::OcTree<S>* octree, const std::vector<Transform3d>& poses,
-                const std::vector<Transform3d>& apart, bool rs)
+std::size_t collideOnce(const Type& type, const fcl::OcTree<S>& octree, const Transform3d& tf)
 {
+  fcl::CollisionRequest<S> request;
+  fcl::CollisionResult<S> result;
   const Transform3d id = Transform3d::Identity();
-  Row row;
-  const auto collide_pass = [&] {
-    std::size_t hits = 0;
-    for (const auto& tf : poses)
+  return type.rs ? fcl_rs::collide<S>(type.mesh.get(), tf, &octree, id, request, result)
+                 : fcl::collide<S>(type.mesh.get(), tf, &octree, id, request, result);
+}
+
+double distanceOnce(const Type& type, const fcl::OcTree<S>& octree, const Transform3d& tf)
+{
+  fcl::DistanceRequest<S> request;
+  fcl::DistanceResult<S> result;
+  const Transform3d id = Transform3d::Identity();
+  return type.rs ? fcl_rs::distance<S>(type.mesh.get(), tf, &octree, id, request, result)
+                 : fcl::distance<S>(type.mesh.get(), tf, &octree, id, request, result);
+}
+
+/// Per-query seconds of every pass of every type (passes interleaved over the types).
+std::vector<std::vector<double>> timePasses(const std::vector<Type>& types, const std::vector<Transform3d>& poses,
+                                            int passes, const std::function<void(const Type&, const Transform3d&)>& query)
+{
+  std::vector<std::vector<double>> seconds(types.size());
+  if (poses.empty()) return seconds;
+  for (int pass = 0; pass < passes; ++pass)
+    for (std::size_t t = 0; t < types.size(); ++t)
     {
-      fcl::CollisionRequest<S> request;
-      fcl::CollisionResult<S> result;
-      hits += rs ? fcl_rs::collide<S>(mesh, tf, octree, id, request, result)
-                 : fcl::collide<S>(mesh, tf, octree, id, request, result);
+      const double start = fcl_rs::bench::seconds(TimeSource::kThreadCpu);
+      for (const auto& tf : poses) query(types[t], tf);
+      seconds[t].push_back((fcl_rs::bench::seconds(TimeSource::kThreadCpu) - start) / double(poses.size()));
     }
-    row.collisions = hits;
-    g_sink = g_sink + hits;
-  };
-  const auto distance_pass = [&] {
-    double sum = 0;
-    for (const auto& tf : apart)
-    {
-      fcl::DistanceRequest<S> request;
-      fcl::DistanceResult<S> result;
-      sum += rs ? fcl_rs::distance<S>(mesh, tf, octree, id, request, result)
-                : fcl::distance<S>(mesh, tf, octree, id, request, result);
-    }
-    g_sink = g_sink + std::size_t(sum);
-  };
-  row.us_collide = 1e6 * bestSeconds(collide_pass, 0.2, 3, TimeSource::kThreadCpu) / double(poses.size());
-  if (!apart.empty())
-    row.us_distance = 1e6 * bestSeconds(distance_pass, 0.2, 3, TimeSource::kThreadCpu) / double(apart.size());
-  return row;
+  return seconds;
+}
+
+/// The table of one query kind: median [min, max] per type, and RS (type 0) against the fastest other type.
+void printTimes(const char* what, const std::vector<Type>& types, const std::vector<std::vector<double>>& seconds)
+{
+  if (seconds.front().empty())
+  {
+    std::printf("%s: no poses\n", what);
+    return;
+  }
+  std::size_t best = 1;
+  for (std::size_t t = 1; t < types.size(); ++t)
+    if (median(seconds[t]) < median(seconds[best])) best = t;
+  std::printf("%s, us per query (median [min, max] of %zu passes):\n", what, seconds.front().size());
+  for (std::size_t t = 0; t < types.size(); ++t)
+  {
+    const auto [lo, hi] = std::minmax_element(seconds[t].begin(), seconds[t].end());
+    std::printf("  %-7s %9s [%s, %s]\n", types[t].name.c_str(), timeText(1e6 * median(seconds[t])).c_str(),
+                timeText(1e6 * *lo).c_str(), timeText(1e6 * *hi).c_str());
+  }
+  std::vector<double> per_pass;
+  for (std::size_t p = 0; p < seconds[0].size(); ++p) per_pass.push_back(ratio(seconds[0][p], seconds[best][p]));
+  const auto [lo, hi] = std::minmax_element(per_pass.begin(), per_pass.end());
+  std::printf("  RS/%s %s [%s, %s]\n", types[best].name.c_str(),
+              ratioText(ratio(median(seconds[0]), median(seconds[best]))).c_str(), ratioText(*lo).c_str(),
+              ratioText(*hi).c_str());
 }
 
 void benchMap(const std::string& name, const std::shared_ptr<octomap::OcTree>& map, const Mesh& query,
               const Options& opt)
 {
   const fcl::OcTree<S> octree(map);
-  const auto rs = fcl_rs::buildModel<RSd>(query);
-  const auto obbrss = fcl_rs::buildModel<fcl::OBBRSS<S>>(query);
-  const auto obb = fcl_rs::buildModel<fcl::OBB<S>>(query);
+  const std::vector<Type> types = {
+      {"RS", fcl_rs::buildModel<fcl_rs::RSd>(query), true},
+      {"OBBRSS", fcl_rs::buildModel<fcl::OBBRSS<S>>(query), false},
+      {"OBB", fcl_rs::buildModel<fcl::OBB<S>>(query), false},
+      {"RSS", fcl_rs::buildModel<fcl::RSS<S>>(query), false},
+      {"kIOS", fcl_rs::buildModel<fcl::kIOS<S>>(query), false},
+      {"AABB", fcl_rs::buildModel<fcl::AABB<S>>(query), false},
+  };
   // Pose centres near occupied cells.
   std::vector<Vector3d> occupied;
   for (auto it = map->begin_leafs(); it != map->end_leafs(); ++it)
     if (map->isNodeOccupied(*it)) occupied.emplace_back(it.getX(), it.getY(), it.getZ());
   Random rng(opt.seed);
   std::vector<Transform3d> poses, apart;
+  std::size_t colliding_rs = 0, colliding_obbrss = 0, differ = 0;
   for (int i = 0; i < opt.queries; ++i)
   {
     Transform3d tf = Transform3d::Identity();
@@ -134,24 +176,31 @@ void benchMap(const std::string& name, const std::shared_ptr<octomap::OcTree>& m
     const Vector3d& at = occupied[std::size_t(rng.uniform() * double(occupied.size())) % occupied.size()];
     tf.translation() = at + 0.15 * randomInUnitBall(rng);
     poses.push_back(tf);
-    fcl::CollisionRequest<S> request;
-    fcl::CollisionResult<S> result;
-    if (!fcl::collide<S>(obbrss.get(), tf, &octree, Transform3d::Identity(), request, result)) apart.push_back(tf);
+    // Answers (untimed): the verdict of every type against RS's.
+    const bool rs = collideOnce(types[0], octree, tf) > 0;
+    bool any = rs;
+    colliding_rs += rs;
+    for (std::size_t t = 1; t < types.size(); ++t)
+    {
+      const bool hit = collideOnce(types[t], octree, tf) > 0;
+      differ += hit != rs;
+      any = any || hit;
+      if (t == 1) colliding_obbrss += hit;
+    }
+    if (!any) apart.push_back(tf);
   }
-  const Row r = timeQueries(rs.get(), &octree, poses, apart, true);
-  const Row a = timeQueries(obbrss.get(), &octree, poses, apart, false);
-  const Row b = timeQueries(obb.get(), &octree, poses, apart, false);
-  const double fastest_collide = std::min(a.us_collide, b.us_collide);
-  const double fastest_distance = std::min(a.us_distance, b.us_distance);
-  std::printf("\n%s: %zu occupied cells of %.3f m, %zu poses (%zu colliding by OBBRSS, %zu by RS)\n", name.c_str(),
-              occupied.size(), map->getResolution(), poses.size(), a.collisions, r.collisions);
-  std::printf("%-9s %12s %12s\n", "", "collide us", "distance us");
-  std::printf("%-9s %12s %12s\n", "RS", timeText(r.us_collide).c_str(), timeText(r.us_distance).c_str());
-  std::printf("%-9s %12s %12s\n", "OBBRSS", timeText(a.us_collide).c_str(), timeText(a.us_distance).c_str());
-  std::printf("%-9s %12s %12s\n", "OBB", timeText(b.us_collide).c_str(), timeText(b.us_distance).c_str());
-  std::printf("%-9s %12s %12s\n", "RS/best", ratioText(ratio(r.us_collide, fastest_collide)).c_str(),
-              ratioText(ratio(r.us_distance, fastest_distance)).c_str());
-  if (r.collisions != a.collisions) std::printf("warning: RS and OBBRSS disagree on %s\n", name.c_str());
+  std::printf("\n%s: %zu occupied cells of %.3f m, %zu poses (%zu colliding by RS, %zu by OBBRSS; %zu verdicts of "
+              "other types differ from RS's), %zu apart\n",
+              name.c_str(), occupied.size(), map->getResolution(), poses.size(), colliding_rs, colliding_obbrss,
+              differ, apart.size());
+  const auto collide_times = timePasses(types, poses, opt.passes, [&](const Type& type, const Transform3d& tf) {
+    g_sink = g_sink + collideOnce(type, octree, tf);
+  });
+  printTimes("collide (first contact)", types, collide_times);
+  const auto distance_times = timePasses(types, apart, opt.passes, [&](const Type& type, const Transform3d& tf) {
+    g_sink = g_sink + std::size_t(1e6 * distanceOnce(type, octree, tf));
+  });
+  printTimes("distance (apart poses)", types, distance_times);
 }
 
 }  // namespace
@@ -160,11 +209,18 @@ int main(int argc, char** argv)
 {
   Options opt;
   CLI::App app(kDescription, "fcl_rs_bench_octree");
-  app.add_option("--queries", opt.queries, "poses per map")->check(CLI::PositiveNumber);
-  app.add_option("--seed", opt.seed, "random seed of the poses");
-  app.add_option("--scan-cell", opt.scan_cell, "cell size of the scanned mesh's map (m)")->check(CLI::PositiveNumber);
-  app.add_option("--room-cell", opt.room_cell, "cell size of the room's map (m)")->check(CLI::PositiveNumber);
-  app.add_option("--query-mesh", opt.query_mesh, "query object, a file of ../shared/data/models");
+  app.add_option("--queries", opt.queries, "poses per map")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--passes", opt.passes, "timing passes, interleaved over the types")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--seed", opt.seed, "random seed of the poses")->capture_default_str();
+  app.add_option("--scan-cell", opt.scan_cell, "cell size of the scanned mesh's map (m)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--room-cell", opt.room_cell, "cell size of the room's map (m)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--query-mesh", opt.query_mesh, "query object, a file of ../shared/data/models")->capture_default_str();
   if (const auto status = fcl_rs::tools::parseCommandLine(app, argc, argv)) return *status;
   try
   {

@@ -87,7 +87,9 @@ public:
   bool root(Pair& pair)
   {
     if (!octree_.getRoot()) return false;
-    pair = Pair{0, addCell(octree_.getRoot(), octree_.getRootBV())};
+    const fcl::AABB<S> box = octree_.getRootBV();
+    const CellShape shape(*this, (box.max_ - box.min_) / 2);
+    pair = Pair{0, addCell(octree_.getRoot(), box, shape)};
     return true;
   }
   Visit visit(const Pair& p) const
@@ -136,15 +138,22 @@ public:
     // Copied: adding cells may move cells_.
     const OcTreeNode* node = cells_[std::size_t(v.cell)].node;
     const fcl::AABB<S> box = cells_[std::size_t(v.cell)].box;
+    const OcTreeNode* child_nodes[8];
+    fcl::AABB<S> child_boxes[8];
+    fcl::Vector3<S> half = fcl::Vector3<S>::Zero();
     int n = 0;
     for (unsigned int i = 0; i < 8; ++i)
     {
       const bool exists = octree_.nodeChildExists(node, i);
       if (!exists && !unknown_cells) continue;
-      fcl::AABB<S> child_box;
-      fcl::computeChildBV(box, i, child_box);
-      out[n++] = Pair{v.b1, addCell(exists ? octree_.getNodeChild(node, i) : nullptr, child_box)};
+      child_nodes[n] = exists ? octree_.getNodeChild(node, i) : nullptr;
+      fcl::computeChildBV(box, i, child_boxes[n]);
+      half = half.cwiseMax((child_boxes[n].max_ - child_boxes[n].min_) / 2);
+      ++n;
     }
+    // The children differ in size by rounding only: one shape, the largest, serves them all.
+    const CellShape shape(*this, half);
+    for (int i = 0; i < n; ++i) out[i] = Pair{v.b1, addCell(child_nodes[i], child_boxes[i], shape)};
     return n;
   }
 
@@ -158,20 +167,36 @@ protected:
   Result& result_;
 
 private:
-  /// The cell's RS, moved into the mesh's frame with its rounding offsets widened by the leaf tolerance's terms
+  /// A cell's box at the octree's origin, half extents `half`: its RS and that RS moved into the mesh's frame,
+  /// computed once for the cells of a split (addCell moves both to each cell's centre).
+  struct CellShape
+  {
+    CellShape(const OcTreeMeshQuery& query, const fcl::Vector3<S>& half)
+      : bv(symmetricShapeRS<S>(fcl::Transform3<S>::Identity(),
+                               [&](const fcl::Vector3<S>& dir) { return dir.cwiseAbs().dot(half); })),
+        moved(query.R_, query.T_, bv), reach(half.maxCoeff())
+    {
+    }
+    RS<S> bv;
+    BoxedFrame<S> moved;
+    S reach;
+  };
+
+  /// The cell of node with box `box` (shape's size or smaller), its RS the shape at the box's centre: the box's
+  /// points are centre + y with |y_i| <= half_i exactly, as the leaf test's box (fcl::constructBox: a box of
+  /// the same side at that centre). The moved frame's rounding offsets are widened by the leaf tolerance's terms
   /// (as ShapeBound::coverLeaves) of every cell inside it: a leaf cell's centre c' and half extent h' give
   /// |box pose's translation|_1 <= |t_octree|_1 + sqrt(3) |c'|_1 and |mesh in the box's frame|_1 <=
   /// |mesh in the octree's frame|_1 + |c'|_1, with |c'|_1 <= |c|_1 + 3 h and h' <= h; so that no test of the
   /// cell prunes a triangle the leaf test reports.
-  int addCell(const OcTreeNode* node, const fcl::AABB<S>& box)
+  int addCell(const OcTreeNode* node, const fcl::AABB<S>& box, const CellShape& shape)
   {
-    const fcl::Vector3<S> half = (box.max_ - box.min_) / 2;
-    const S h = half.maxCoeff();
-    fcl::Transform3<S> at = fcl::Transform3<S>::Identity();
-    at.translation() = box.center();
-    const RS<S> bv = symmetricShapeRS<S>(at, [&](const fcl::Vector3<S>& dir) { return dir.cwiseAbs().dot(half); });
-    const S offsets = leaf_offsets_ + 3 * (box.center().template lpNorm<1>() + 3 * h) + 6 * h;
-    cells_.push_back(OcTreeCell<S>{node, box, bv, BoxedFrame<S>(R_, T_, bv, offsets)});
+    OcTreeCell<S> cell{node, box, shape.bv, shape.moved};
+    cell.bv.origin = box.center();
+    const S h = shape.reach;
+    const S offsets = leaf_offsets_ + 3 * (cell.bv.origin.template lpNorm<1>() + 3 * h) + 6 * h;
+    cell.moved.moveOrigin(R_, T_, cell.bv.origin, offsets);
+    cells_.push_back(cell);
     return int(cells_.size() - 1);
   }
 
