@@ -29,6 +29,7 @@
 #include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/descent.h"
+#include "fcl_rs/traversal/per_query_table.h"
 
 namespace fcl_rs {
 namespace detail {
@@ -69,7 +70,7 @@ public:
   OcTreeMeshQuery(const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<S>& tf_mesh, const fcl::OcTree<S>& octree,
                   const fcl::Transform3<S>& tf_octree, const Solver& solver, const Request& request, Result& result)
     : solver_(solver), request_(request), result_(result), mesh_(mesh), tf_mesh_(tf_mesh), octree_(octree),
-      tf_octree_(tf_octree)
+      tf_octree_(tf_octree), cells_(cell_storage_.values()), node_boxes_(std::size_t(mesh.getNumBVs()))
   {
     fcl::relativeTransform(tf_mesh, tf_octree, R_, T_);
     // The leaf tolerance's terms (TriangleShapeLeaf::boundOffsets) that do not depend on the cell: the poses'
@@ -80,7 +81,6 @@ public:
     const fcl::Vector3<S> mesh_in_octree = tf_octree.inverse(Eigen::Isometry) * tf_mesh.translation();
     leaf_offsets_ = tf_mesh.translation().template lpNorm<1>() + tf_octree.translation().template lpNorm<1>() +
                     mesh_in_octree.template lpNorm<1>() + 6 * mesh_reach;
-    cells_.reserve(256);
   }
 
   /// The root pair, or false for an empty octree (FCL's traversal would read a null root).
@@ -126,8 +126,10 @@ public:
   int cellId(const OcTreeCell<S>& c) const { return int(c.node - octree_.getRoot()); }
 
   /// The children of the pair's mesh node (first) or cell, in FCL's order; a missing child of a cell is visited
-  /// as an unknown cell when `unknown_cells` (cost requested and the mesh not free), else skipped.
-  int children(const Visit& v, bool first, Pair* out, bool unknown_cells)
+  /// as an unknown cell when `unknown_cells` (cost requested and the mesh not free), else skipped. With `prune`
+  /// (collision), a cell's children whose boxes miss the mesh node's principal box are left out before they are
+  /// made cells (boxesApart): most of a split's eight are, and a cell costs more than that test.
+  int children(const Visit& v, bool first, Pair* out, bool unknown_cells, bool prune)
   {
     if (first)
     {
@@ -146,11 +148,13 @@ public:
     {
       const bool exists = octree_.nodeChildExists(node, i);
       if (!exists && !unknown_cells) continue;
-      child_nodes[n] = exists ? octree_.getNodeChild(node, i) : nullptr;
       fcl::computeChildBV(box, i, child_boxes[n]);
+      if (prune && boxesApart(v.b1, child_boxes[n])) continue;
+      child_nodes[n] = exists ? octree_.getNodeChild(node, i) : nullptr;
       half = half.cwiseMax((child_boxes[n].max_ - child_boxes[n].min_) / 2);
       ++n;
     }
+    if (n == 0) return 0;
     // The children differ in size by rounding only: one shape, the largest, serves them all.
     const CellShape shape(*this, half);
     for (int i = 0; i < n; ++i) out[i] = Pair{v.b1, addCell(child_nodes[i], child_boxes[i], shape)};
@@ -167,6 +171,43 @@ protected:
   Result& result_;
 
 private:
+  /// A mesh node's principal box (which holds its RS: the box's centre and half extents along the stored frame)
+  /// as an axis-aligned box in the octree's frame, and the offsets and reach of its rounding bound.
+  struct NodeBox
+  {
+    fcl::Vector3<S> centre, half;
+    S offsets, reach;
+  };
+  const NodeBox& nodeBox(int b)
+  {
+    return node_boxes_.get(std::size_t(b), [&] {
+      const RS<S>& bv = mesh_.getBV(b).bv;
+      const Box<S> box(bv);
+      const fcl::Matrix3<S> A = bv.axes();
+      const fcl::Matrix3<S> M = R_.transpose() * A;  // the node's frame in the octree's: x = R^T (x_mesh - T)
+      return NodeBox{R_.transpose() * (bv.origin + A * box.c - T_), M.cwiseAbs() * box.h,
+                     bv.origin.template lpNorm<1>() + T_.template lpNorm<1>(), box.reach()};
+    });
+  }
+  /// Whether the cell box `box` misses mesh node b's box along an axis of the octree's frame by more than the
+  /// rounding bound of a pair test of the two (pairRoundingBound of the node's, the cell's and the leaf tolerance's
+  /// offsets, as addCell's, and of both reaches): then the RS test of the pair, and every leaf test below it,
+  /// would find them apart as well.
+  bool boxesApart(int b, const fcl::AABB<S>& box)
+  {
+    const NodeBox& node = nodeBox(b);
+    const fcl::Vector3<S> half = (box.max_ - box.min_) / 2;
+    const fcl::Vector3<S> centre = box.center();
+    const S h = half.maxCoeff();
+    const S tol = pairRoundingBound<S>(node.offsets + cellOffsets(centre, h), node.reach + h);
+    return (((centre - node.centre).cwiseAbs() - half - node.half).array() > tol).any();
+  }
+  /// The leaf tolerance's terms for a cell at centre c with half extent h and every cell inside it (addCell).
+  S cellOffsets(const fcl::Vector3<S>& c, S h) const
+  {
+    return leaf_offsets_ + 3 * (c.template lpNorm<1>() + 3 * h) + 6 * h;
+  }
+
   /// A cell's box at the octree's origin, half extents `half`: its RS and that RS moved into the mesh's frame,
   /// computed once for the cells of a split (addCell moves both to each cell's centre).
   struct CellShape
@@ -193,9 +234,7 @@ private:
   {
     OcTreeCell<S> cell{node, box, shape.bv, shape.moved};
     cell.bv.origin = box.center();
-    const S h = shape.reach;
-    const S offsets = leaf_offsets_ + 3 * (cell.bv.origin.template lpNorm<1>() + 3 * h) + 6 * h;
-    cell.moved.moveOrigin(R_, T_, cell.bv.origin, offsets);
+    cell.moved.moveOrigin(R_, T_, cell.bv.origin, cellOffsets(cell.bv.origin, shape.reach));
     cells_.push_back(cell);
     return int(cells_.size() - 1);
   }
@@ -207,7 +246,9 @@ private:
   fcl::Matrix3<S> R_;  ///< the octree's frame in the mesh's: x_mesh = R x_octree + T
   fcl::Vector3<S> T_;
   S leaf_offsets_;  ///< the leaf tolerance's terms common to every cell
-  std::vector<OcTreeCell<S>> cells_;
+  PerQueryVector<OcTreeCell<S>> cell_storage_;
+  std::vector<OcTreeCell<S>>& cells_;  ///< cell_storage_'s
+  PerQueryTable<NodeBox> node_boxes_;
 };
 
 /// The descent policy of octree-mesh collision (descendDepthFirst), FCL's OcTreeMeshIntersectRecurse: a pair is
@@ -259,7 +300,7 @@ public:
   }
   int children(const Visit& v, bool first, Pair* out)
   {
-    return Base::children(v, first, out, this->request_.enable_cost && !this->mesh().isFree());
+    return Base::children(v, first, out, this->request_.enable_cost && !this->mesh().isFree(), true);
   }
 
 private:
@@ -342,7 +383,7 @@ public:
     const S d = leaf.distance(this->triangle(v.n1).data(), on_triangle, on_cell);
     this->result_.update(d, &this->octree(), &this->mesh(), this->cellId(c), primitiveId(v.n1), on_cell, on_triangle);
   }
-  int children(const Visit& v, bool first, Pair* out) { return Base::children(v, first, out, false); }
+  int children(const Visit& v, bool first, Pair* out) { return Base::children(v, first, out, false, false); }
 };
 
 }  // namespace detail
