@@ -38,8 +38,9 @@ awk '/^[0-9]+\/[0-9]+ Testing: / { name = $3 }
 test_targets() { cmake --build "$1" --target help | sed -nE 's/^(\.\.\. )?(test_[A-Za-z0-9_]+)(:.*)?$/\2/p' | sort -u; }
 
 # FCL, libccd and assimp come from Debian uninstrumented: the sanitizers check fcl_rs and the FCL templates it
-# instantiates. The fuzz targets share build-asan's instrumented library (a second sanitized build of the library
-# would cost CI ~15 min); fuzzer-no-link only adds coverage counters to the test executables.
+# instantiates on its own types (FCL's narrow phase for float, compiled into fcl_rs, stays uninstrumented too:
+# CMakeLists.txt). The fuzz targets share build-asan's instrumented library (a second sanitized build of the
+# library would cost CI ~15 min); fuzzer-no-link only adds coverage counters to the test executables.
 # alloc_dealloc_mismatch=0: FCL 0.7's getMotionBase (continuous collision, a header template) creates motions with
 # the global operator new and its shared_ptr deletes them through Eigen's class operator delete (free). Harmless
 # with glibc; fcl_rs keeps calling it so that its motions round exactly as fcl::continuousCollide's.

@@ -15,6 +15,7 @@
 
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/collision_traversal.h"
+#include "fcl_rs/traversal/octree_traversal.h"
 #include "fcl_rs/validate.h"
 
 namespace fcl_rs {
@@ -24,37 +25,74 @@ using detail::asRSMesh;
 
 constexpr const char* kApi = "fcl_rs::collide";
 
+/// FCL's approximate cost of a mesh against another geometry: the box of the mesh's root (with the mesh's cost
+/// density and thresholds) against it, for cost sources only (collide_box(box, box_tf, only_cost_request)).
+template <typename S, typename CollideBox>
+void addApproximateCost(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh,
+                        const fcl::CollisionRequest<S>& request, const fcl::CollisionResult<S>& result,
+                        CollideBox collide_box)
+{
+  fcl::Box<S> box;
+  fcl::Transform3<S> box_tf;
+  constructBox(model.getBV(0).bv, tf_mesh, box, box_tf);
+  box.cost_density = model.cost_density;
+  box.threshold_occupied = model.threshold_occupied;
+  box.threshold_free = model.threshold_free;
+  const fcl::CollisionRequest<S> only_cost_request(result.numContacts(), false, request.num_max_cost_sources, true,
+                                                   false);
+  collide_box(box, box_tf, only_cost_request);
+}
+
 template <typename Shape, typename S, typename Solver>
-std::size_t meshShape(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
-                      const fcl::CollisionGeometry<S>* shape, const fcl::Transform3<S>& tf_shape,
-                      const Solver* solver, const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+std::size_t meshShape(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh, const Shape& shape,
+                      const fcl::Transform3<S>& tf_shape, const Solver* solver, const fcl::CollisionRequest<S>& request,
+                      fcl::CollisionResult<S>& result)
 {
   // FCL's driver (fcl::detail::orientedBVHShapeCollide, approximate-cost branch included) with our local-frame
   // node and our traversal loop.
   if (request.isSatisfied(result)) return result.numContacts();
-  const auto& model = static_cast<const fcl::BVHModel<RS<S>>&>(*mesh);
-  const Shape& geometry = static_cast<const Shape&>(*shape);
   const bool approximate_cost = request.enable_cost && request.use_approximate_cost;
   fcl::CollisionRequest<S> mesh_request(request);
   mesh_request.enable_cost = request.enable_cost && !approximate_cost;
   MeshShapeCollisionTraversalNodeRS<Shape, Solver> node;
-  initialize(node, model, tf_mesh, geometry, tf_shape, solver, mesh_request, result);
+  initialize(node, model, tf_mesh, shape, tf_shape, solver, mesh_request, result);
   collideMeshShape(node);
   if (approximate_cost)
-  {
-    // As FCL: the cost comes from the mesh's root box against the shape.
-    fcl::Box<S> box;
-    fcl::Transform3<S> box_tf;
-    constructBox(model.getBV(0).bv, tf_mesh, box, box_tf);
-    box.cost_density = model.cost_density;
-    box.threshold_occupied = model.threshold_occupied;
-    box.threshold_free = model.threshold_free;
-    fcl::CollisionRequest<S> only_cost_request(result.numContacts(), false, request.num_max_cost_sources, true, false);
-    fcl::detail::ShapeShapeCollide<fcl::Box<S>, Shape>(&box, box_tf, shape, tf_shape, solver, only_cost_request,
-                                                       result);
-  }
+    addApproximateCost(model, tf_mesh, request, result, [&](const fcl::Box<S>& box, const fcl::Transform3<S>& box_tf,
+                                                            const fcl::CollisionRequest<S>& only_cost_request) {
+      fcl::detail::ShapeShapeCollide<fcl::Box<S>, Shape>(&box, box_tf, &shape, tf_shape, solver, only_cost_request,
+                                                         result);
+    });
   return result.numContacts();
 }
+
+#if FCL_HAVE_OCTOMAP
+/// FCL's drivers of a mesh and an octree (fcl::detail::OcTreeBVHCollide, BVHOcTreeCollide, approximate-cost
+/// branch included) with the RS traversal. Contacts name the octree first in either order, as FCL's do.
+template <typename S, typename Solver>
+std::size_t meshOcTree(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh,
+                       const fcl::CollisionGeometry<S>* octree, const fcl::Transform3<S>& tf_octree, bool mesh_first,
+                       const Solver* solver, const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+{
+  if (request.isSatisfied(result)) return result.numContacts();
+  const bool approximate_cost = request.enable_cost && request.use_approximate_cost;
+  fcl::CollisionRequest<S> tree_request(request);
+  tree_request.enable_cost = request.enable_cost && !approximate_cost;
+  collideOcTreeMesh(static_cast<const fcl::OcTree<S>&>(*octree), tf_octree, model, tf_mesh, *solver, tree_request,
+                    result);
+  if (approximate_cost)
+    addApproximateCost(model, tf_mesh, request, result, [&](const fcl::Box<S>& box, const fcl::Transform3<S>& box_tf,
+                                                            const fcl::CollisionRequest<S>& only_cost_request) {
+      if (mesh_first)
+        fcl::detail::ShapeOcTreeCollide<fcl::Box<S>, Solver>(&box, box_tf, octree, tf_octree, solver,
+                                                              only_cost_request, result);
+      else
+        fcl::detail::OcTreeShapeCollide<fcl::Box<S>, Solver>(octree, tf_octree, &box, box_tf, solver,
+                                                              only_cost_request, result);
+    });
+  return result.numContacts();
+}
+#endif
 
 template <typename S, typename Solver>
 std::size_t meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
@@ -62,23 +100,14 @@ std::size_t meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::
                               const Solver* solver, const fcl::CollisionRequest<S>& request,
                               fcl::CollisionResult<S>& result)
 {
-  switch (shape->getNodeType())
-  {
-    case fcl::GEOM_BOX: return meshShape<fcl::Box<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_SPHERE: return meshShape<fcl::Sphere<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_ELLIPSOID:
-      return meshShape<fcl::Ellipsoid<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_CAPSULE: return meshShape<fcl::Capsule<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_CONE: return meshShape<fcl::Cone<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_CYLINDER:
-      return meshShape<fcl::Cylinder<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_CONVEX: return meshShape<fcl::Convex<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_PLANE: return meshShape<fcl::Plane<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_HALFSPACE:
-      return meshShape<fcl::Halfspace<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    default:
-      detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(), "FCL has no mesh test for this shape");
-  }
+  const auto& model = static_cast<const fcl::BVHModel<RS<S>>&>(*mesh);
+  return detail::withShape(
+      *shape,
+      [&](const auto& geometry) { return meshShape(model, tf_mesh, geometry, tf_shape, solver, request, result); },
+      [&]() -> std::size_t {
+        detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(),
+                                "FCL has no mesh test for this shape");
+      });
 }
 
 template <typename S>
@@ -137,9 +166,13 @@ std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3
   const auto* other = mesh_first ? o2 : o1;
   const auto& tf_mesh = mesh_first ? tf1 : tf2;
   const auto& tf_other = mesh_first ? tf2 : tf1;
+#if FCL_HAVE_OCTOMAP
+  if (other->getNodeType() == fcl::GEOM_OCTREE)
+    return meshOcTree(mesh_first ? *m1 : *m2, tf_mesh, other, tf_other, mesh_first, solver, request, result);
+#endif
   if (other->getObjectType() != fcl::OT_GEOM)
     detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
-                    "an RS mesh collides with RS meshes and primitive shapes only");
+                            "an RS mesh collides with RS meshes, octrees and primitive shapes only");
   if (other->getNodeType() == fcl::GEOM_TRIANGLE)
     return meshTriangle(mesh_first ? *m1 : *m2, tf_mesh, static_cast<const fcl::TriangleP<S>&>(*other), tf_other,
                         request, result);

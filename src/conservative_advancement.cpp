@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/utility.h>
@@ -18,6 +19,7 @@
 #include <fcl/math/motion/translation_motion.h>
 
 #include "fcl_rs/distance.h"
+#include "fcl_rs/traversal/shape_switch.h"
 
 namespace fcl_rs {
 namespace detail {
@@ -93,6 +95,12 @@ SpeedBound<S> speedBound(const fcl::MotionBase<S>& motion, const fcl::Vector3<S>
                               "spline motions only");
 }
 
+template <typename S>
+bool isUnbounded(const fcl::CollisionGeometry<S>& g)
+{
+  return g.getNodeType() == fcl::GEOM_PLANE || g.getNodeType() == fcl::GEOM_HALFSPACE;
+}
+
 /// A ball (in the object's frame) holding the object, or for a plane or halfspace the origin with radius 0 (the
 /// caller widens it to the region the other object can reach).
 template <typename S>
@@ -115,36 +123,19 @@ Ball<S> boundingBall(const fcl::CollisionGeometry<S>& g)
       ball.radius = std::max(ball.radius, (mesh->vertices[i] - ball.centre).norm());
     return ball;
   }
-  if (g.getNodeType() == fcl::GEOM_PLANE || g.getNodeType() == fcl::GEOM_HALFSPACE) return ball;
+  if (isUnbounded(g)) return ball;
   if (g.getObjectType() != fcl::OT_GEOM)
     unsupportedPair(kApi, g.getNodeType(), g.getNodeType(),
                     "conservative advancement moves RS meshes and primitive shapes only");
-  // The shape's local box (computeLocalAABB would write the caller's geometry).
+  // The shape's local box (computeLocalAABB would write the caller's geometry). A TriangleP is no case of the
+  // shape switch (collide and distance take it first too).
   fcl::AABB<S> box;
-  switch (g.getNodeType())
-  {
-    case fcl::GEOM_BOX: fcl::computeBV(static_cast<const fcl::Box<S>&>(g), fcl::Transform3<S>::Identity(), box); break;
-    case fcl::GEOM_SPHERE:
-      fcl::computeBV(static_cast<const fcl::Sphere<S>&>(g), fcl::Transform3<S>::Identity(), box);
-      break;
-    case fcl::GEOM_ELLIPSOID:
-      fcl::computeBV(static_cast<const fcl::Ellipsoid<S>&>(g), fcl::Transform3<S>::Identity(), box);
-      break;
-    case fcl::GEOM_CAPSULE:
-      fcl::computeBV(static_cast<const fcl::Capsule<S>&>(g), fcl::Transform3<S>::Identity(), box);
-      break;
-    case fcl::GEOM_CONE: fcl::computeBV(static_cast<const fcl::Cone<S>&>(g), fcl::Transform3<S>::Identity(), box); break;
-    case fcl::GEOM_CYLINDER:
-      fcl::computeBV(static_cast<const fcl::Cylinder<S>&>(g), fcl::Transform3<S>::Identity(), box);
-      break;
-    case fcl::GEOM_CONVEX:
-      fcl::computeBV(static_cast<const fcl::Convex<S>&>(g), fcl::Transform3<S>::Identity(), box);
-      break;
-    case fcl::GEOM_TRIANGLE:
-      fcl::computeBV(static_cast<const fcl::TriangleP<S>&>(g), fcl::Transform3<S>::Identity(), box);
-      break;
-    default: unsupportedPair(kApi, g.getNodeType(), g.getNodeType(), "no bounding box for this shape");
-  }
+  const auto local_box = [&box](const auto& shape) { fcl::computeBV(shape, fcl::Transform3<S>::Identity(), box); };
+  if (g.getNodeType() == fcl::GEOM_TRIANGLE)
+    local_box(static_cast<const fcl::TriangleP<S>&>(g));
+  else
+    withShape(g, local_box,
+              [&g] { unsupportedPair(kApi, g.getNodeType(), g.getNodeType(), "no bounding box for this shape"); });
   ball.centre = box.center();
   ball.radius = (box.max_ - box.min_).norm() / 2;
   return ball;
@@ -185,15 +176,12 @@ S meshUnboundedDistance(const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<
 }
 
 template <typename S>
-S pairDistance(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1, const fcl::CollisionGeometry<S>* o2,
+S pairDistance(const fcl::BVHModel<RS<S>>& mesh1, const fcl::Transform3<S>& tf1, const fcl::CollisionGeometry<S>* o2,
                const fcl::Transform3<S>& tf2, const fcl::DistanceRequest<S>& request)
 {
-  const bool unbounded1 = o1->getNodeType() == fcl::GEOM_PLANE || o1->getNodeType() == fcl::GEOM_HALFSPACE;
-  const bool unbounded2 = o2->getNodeType() == fcl::GEOM_PLANE || o2->getNodeType() == fcl::GEOM_HALFSPACE;
-  if (unbounded2 && asRSMesh(o1)) return meshUnboundedDistance(*asRSMesh(o1), tf1, *o2, tf2);
-  if (unbounded1 && asRSMesh(o2)) return meshUnboundedDistance(*asRSMesh(o2), tf2, *o1, tf1);
+  if (isUnbounded(*o2)) return meshUnboundedDistance(mesh1, tf1, *o2, tf2);
   fcl::DistanceResult<S> result;
-  return fcl_rs::distance(o1, tf1, o2, tf2, request, result);
+  return fcl_rs::distance(&mesh1, tf1, o2, tf2, request, result);
 }
 
 }  // namespace
@@ -203,25 +191,31 @@ S conservativeAdvancement(const fcl::CollisionGeometry<S>* o1, const fcl::Motion
                           const fcl::CollisionGeometry<S>* o2, const fcl::MotionBase<S>* motion2,
                           const fcl::ContinuousCollisionRequest<S>& request, fcl::ContinuousCollisionResult<S>& result)
 {
+  // The advancement is symmetric in its two objects: a shape given first is swapped behind the mesh, so that
+  // below the first object is always an RS mesh.
+  const auto* mesh1 = asRSMesh(o1);
+  if (!mesh1)
+  {
+    if (!asRSMesh(o2))
+      unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(), "conservative advancement needs an RS mesh");
+    conservativeAdvancement(o2, motion2, o1, motion1, request, result);
+    if (result.is_collide) std::swap(result.contact_tf1, result.contact_tf2);
+    return result.time_of_contact;
+  }
   // requireValidRequest has checked toc_err > 0, so each step below is at least toc_err / 2.
   const Ball<S> ball1 = boundingBall(*o1), ball2 = boundingBall(*o2);
   const SpeedBound<S> v1 = speedBound(*motion1, ball1.centre), v2 = speedBound(*motion2, ball2.centre);
-  S radius1 = ball1.radius, radius2 = ball2.radius;
-  // A plane or halfspace: only its points within reach of the other object's ball over the motion matter (the
-  // nearest point to any point of the other object is no farther from the plane's origin than that point).
-  const bool unbounded1 = o1->getNodeType() == fcl::GEOM_PLANE || o1->getNodeType() == fcl::GEOM_HALFSPACE;
-  const bool unbounded2 = o2->getNodeType() == fcl::GEOM_PLANE || o2->getNodeType() == fcl::GEOM_HALFSPACE;
+  const S radius1 = ball1.radius;
+  S radius2 = ball2.radius;
   fcl::Transform3<S> tf1, tf2;
   motion1->integrate(0);
   motion2->integrate(0);
   motion1->getCurrentTransform(tf1);
   motion2->getCurrentTransform(tf2);
-  if (unbounded1 || unbounded2)
-  {
-    const S reach = (tf1 * ball1.centre - tf2 * ball2.centre).norm() + v1.centre_speed + v2.centre_speed;
-    if (unbounded1) radius1 = reach + radius2;
-    if (unbounded2) radius2 = reach + radius1;
-  }
+  // A plane or halfspace: only its points within reach of the mesh's ball over the motion matter (the nearest
+  // point to any point of the mesh is no farther from the plane's origin than that point).
+  if (isUnbounded(*o2))
+    radius2 = (tf1 * ball1.centre - tf2 * ball2.centre).norm() + v1.centre_speed + v2.centre_speed + radius1;
   // No point of either object moves faster than this, so the distance shrinks no faster.
   const S speed = v1.centre_speed + v1.angular_speed * radius1 + v2.centre_speed + v2.angular_speed * radius2;
   // Stop once the objects may touch within toc_err of the motion; a step is shortened by half that, which
@@ -233,7 +227,7 @@ S conservativeAdvancement(const fcl::CollisionGeometry<S>* o1, const fcl::Motion
   bool contact = false;
   while (true)
   {
-    const S d = pairDistance(o1, tf1, o2, tf2, distance_request);
+    const S d = pairDistance(*mesh1, tf1, o2, tf2, distance_request);
     if (d <= stop_distance)
     {
       contact = true;

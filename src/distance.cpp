@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include <fcl/narrowphase/distance.h>
 #include <fcl/narrowphase/detail/distance_func_matrix.h>
@@ -16,6 +17,7 @@
 #include "fcl_rs/collide.h"
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/distance_traversal.h"
+#include "fcl_rs/traversal/octree_traversal.h"
 #include "fcl_rs/validate.h"
 
 namespace fcl_rs {
@@ -26,12 +28,16 @@ using detail::asRSMesh;
 constexpr const char* kApi = "fcl_rs::distance";
 
 template <typename Shape, typename S, typename Solver>
-S meshShape(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
-            const fcl::CollisionGeometry<S>* shape, const fcl::Transform3<S>& tf_shape, const Solver* solver,
-            const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+S meshShape(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh, const Shape& shape,
+            const fcl::Transform3<S>& tf_shape, const Solver* solver, const fcl::DistanceRequest<S>& request,
+            fcl::DistanceResult<S>& result)
 {
-  return fcl::detail::orientedBVHShapeDistance<MeshShapeDistanceTraversalNodeRS<Shape, Solver>, RS<S>, Shape, Solver>(
-      mesh, tf_mesh, shape, tf_shape, solver, request, result);
+  // FCL's driver (fcl::detail::orientedBVHShapeDistance) with our local-frame node and descent.
+  if (request.isSatisfied(result)) return result.min_distance;
+  MeshShapeDistanceTraversalNodeRS<Shape, Solver> node;
+  initialize(node, model, tf_mesh, shape, tf_shape, solver, request, result);
+  distanceMeshShape(node);
+  return result.min_distance;
 }
 
 template <typename S, typename Solver>
@@ -39,25 +45,23 @@ S meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3
                     const fcl::CollisionGeometry<S>* shape, const fcl::Transform3<S>& tf_shape, const Solver* solver,
                     const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
 {
-  switch (shape->getNodeType())
-  {
-    case fcl::GEOM_BOX: return meshShape<fcl::Box<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_SPHERE: return meshShape<fcl::Sphere<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_ELLIPSOID:
-      return meshShape<fcl::Ellipsoid<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_CAPSULE: return meshShape<fcl::Capsule<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_CONE: return meshShape<fcl::Cone<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_CYLINDER:
-      return meshShape<fcl::Cylinder<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_CONVEX: return meshShape<fcl::Convex<S>>(mesh, tf_mesh, shape, tf_shape, solver, request, result);
-    case fcl::GEOM_PLANE:
-    case fcl::GEOM_HALFSPACE:
-      // FCL's own mesh-plane/halfspace distance hands the unbounded shape to GJK, which has no support function
-      // for it: fcl::distance on an RSS or OBBRSS mesh crashes there (null call in libccd).
-      detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(), "FCL has no triangle-plane/halfspace distance");
-    default:
-      detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(), "FCL has no mesh distance for this shape");
-  }
+  const auto& model = static_cast<const fcl::BVHModel<RS<S>>&>(*mesh);
+  return detail::withShape(
+      *shape,
+      [&](const auto& geometry) -> S {
+        using Shape = std::decay_t<decltype(geometry)>;
+        if constexpr (std::is_same_v<Shape, fcl::Plane<S>> || std::is_same_v<Shape, fcl::Halfspace<S>>)
+          // FCL's own mesh-plane/halfspace distance hands the unbounded shape to GJK, which has no support function
+          // for it: fcl::distance on an RSS or OBBRSS mesh crashes there (null call in libccd).
+          detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(),
+                                  "FCL has no triangle-plane/halfspace distance");
+        else
+          return meshShape(model, tf_mesh, geometry, tf_shape, solver, request, result);
+      },
+      [&]() -> S {
+        detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(),
+                                "FCL has no mesh distance for this shape");
+      });
 }
 
 /// FCL's signed-distance fallback for meshes (distance-inl.h): a negative distance becomes minus the deepest
@@ -130,22 +134,36 @@ S distanceRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
     const auto* other = mesh_first ? o2 : o1;
     const auto& tf_mesh = mesh_first ? tf1 : tf2;
     const auto& tf_other = mesh_first ? tf2 : tf1;
-    if (other->getObjectType() != fcl::OT_GEOM)
-      detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
-                      "an RS mesh measures distance to RS meshes and primitive shapes only");
-    if (other->getNodeType() == fcl::GEOM_TRIANGLE)
+#if FCL_HAVE_OCTOMAP
+    if (other->getNodeType() == fcl::GEOM_OCTREE)
     {
-      // The triangle as a one-triangle mesh, named in the result as FCL names a shape (o2, b2 = NONE).
-      const auto triangle_mesh = detail::triangleAsMesh(static_cast<const fcl::TriangleP<S>&>(*other));
-      res = meshMesh(mesh_first ? *m1 : *m2, tf_mesh, *triangle_mesh, tf_other, request, result);
-      if (result.o2 == triangle_mesh.get())
-      {
-        result.o2 = other;
-        result.b2 = fcl::DistanceResult<S>::NONE;
-      }
+      // fcl::detail::OcTreeBVHDistance and BVHOcTreeDistance with the RS traversal: the result names the octree
+      // first in either order, as FCL's does.
+      if (!request.isSatisfied(result))
+        distanceOcTreeMesh(static_cast<const fcl::OcTree<S>&>(*other), tf_other, mesh_first ? *m1 : *m2, tf_mesh,
+                           *solver, request, result);
+      res = result.min_distance;
     }
     else
-      res = meshShapeDispatch(mesh, tf_mesh, other, tf_other, solver, request, result);
+#endif
+    {
+      if (other->getObjectType() != fcl::OT_GEOM)
+        detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
+                                "an RS mesh measures distance to RS meshes, octrees and primitive shapes only");
+      if (other->getNodeType() == fcl::GEOM_TRIANGLE)
+      {
+        // The triangle as a one-triangle mesh, named in the result as FCL names a shape (o2, b2 = NONE).
+        const auto triangle_mesh = detail::triangleAsMesh(static_cast<const fcl::TriangleP<S>&>(*other));
+        res = meshMesh(mesh_first ? *m1 : *m2, tf_mesh, *triangle_mesh, tf_other, request, result);
+        if (result.o2 == triangle_mesh.get())
+        {
+          result.o2 = other;
+          result.b2 = fcl::DistanceResult<S>::NONE;
+        }
+      }
+      else
+        res = meshShapeDispatch(mesh, tf_mesh, other, tf_other, solver, request, result);
+    }
   }
   // Only when this query made the distance negative: a result shared by several queries (the broadphase
   // callbacks) may hold an earlier pair's negative distance.

@@ -350,7 +350,8 @@ TYPED_TEST(ConservativeAdvancement, NeverLaterThanTheReference)
 /// Grazing motions: a sphere passes a box mesh's vertical edge with its centre r -/+ 1e-3 from the edge, so a
 /// touching pass collides over about 1 % of the motion (naive sampling at FCL's default 10 samples misses it) and
 /// a free pass keeps a 1e-3 clearance, more than the motion's reach times toc_err (4 x 1e-4): the touching pass
-/// is found no later than the reference, the free pass is reported free.
+/// is found no later than the reference, with the motions' poses at that time in the argument order, and the
+/// free pass is reported free.
 TYPED_TEST(ConservativeAdvancement, GrazingPasses)
 {
   using S = TypeParam;
@@ -383,6 +384,14 @@ TYPED_TEST(ConservativeAdvancement, GrazingPasses)
       if (gap < 0)
       {
         EXPECT_LE(rs.time_of_contact, ref.toc + 1e-4);
+        // The contact poses follow the argument order (the shape-first order is run as mesh first).
+        fcl::Transform3<S> tf1, tf2;
+        c.m1->integrate(rs.time_of_contact);
+        c.m2->integrate(rs.time_of_contact);
+        c.m1->getCurrentTransform(tf1);
+        c.m2->getCurrentTransform(tf2);
+        EXPECT_TRUE(rs.contact_tf1.isApprox(tf1));
+        EXPECT_TRUE(rs.contact_tf2.isApprox(tf2));
       }
       fcl::ContinuousCollisionRequest<S> naive;
       fcl::ContinuousCollisionResult<S> sampled;

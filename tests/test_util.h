@@ -144,6 +144,31 @@ fcl::Transform3<S> randomPose(Rng& rng, S extent)
   return tf;
 }
 
+/// Point clouds of several shapes that stress PCA: isotropic, elongated, flat, clustered, tiny.
+template <typename S, typename Rng>
+std::vector<fcl::Vector3<S>> randomCloud(Rng& rng, int kind, int n)
+{
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const fcl::Matrix3<S> R = randomRotation<S>(rng);
+  const fcl::Vector3<S> offset(S(u(rng) * 2), S(u(rng) * 2), S(u(rng) * 2));
+  std::vector<fcl::Vector3<S>> pts;
+  for (int i = 0; i < n; ++i)
+  {
+    fcl::Vector3<S> p;
+    switch (kind % 5)
+    {
+      case 0: p = fcl::Vector3<S>(S(g(rng)), S(g(rng)), S(g(rng))); break;
+      case 1: p = fcl::Vector3<S>(S(5 * u(rng)), S(u(rng)), S(0.2 * u(rng))); break;
+      case 2: p = fcl::Vector3<S>(S(u(rng)), S(u(rng)), 0); break;  // flat
+      case 3: p = fcl::Vector3<S>(S(u(rng)), S(u(rng)), S(u(rng))).normalized(); break;
+      default: p = fcl::Vector3<S>(S(i % 2 ? 3 : -3), 0, 0) + fcl::Vector3<S>(S(u(rng)), S(u(rng)), S(u(rng))) / 10;
+    }
+    pts.push_back(R * p + offset);
+  }
+  return pts;
+}
+
 /// b's pose near a placed at tf_a: b's centre offset from a's by a uniform vector in a cube of half-size
 /// spread * (ra + rb), its rotation uniform. A and B have a centre (model coordinates) and a radius about it.
 template <typename S, typename Rng, typename A, typename B>

@@ -182,6 +182,7 @@ RS<S> transform(const RS<S>& bv, const fcl::Transform3<S>& tf);
 }  // namespace fcl_rs
 
 #include "fcl_rs/bv/rs-inl.h"
+#include "fcl_rs/bv/pair_kernel.h"
 // FCL fits and splits a BVHModel<RS> with the specialisations in rs_fit.h; a translation unit that builds one
 // without them silently compiles FCL's generic fit (the identity frame, point by point) and breaks the ODR.
 #include "fcl_rs/bv/rs_fit.h"

@@ -732,10 +732,37 @@ private:
   fcl::Vector3<S> t1_, t2_, T_;
 };
 
+/// The contact of triangle p (the mesh's frame, the mesh at tf_mesh) and shape (at tf_shape), a pair leaf.meets,
+/// as FCL's solver gives it with the shape first (normal from the shape towards the triangle): position, normal
+/// and depth from FCL's solver where it finds the pair too; where it does not (a pair within the tolerance that
+/// FCL's GJK calls apart), the contact sits midway between the closest points with depth 0.
+template <typename Shape, typename Solver>
+void shapeTriangleContact(const TriangleShapeLeaf<Shape>& leaf, const std::array<fcl::Vector3<typename Shape::S>, 3>& p,
+                          const Shape& shape, const fcl::Transform3<typename Shape::S>& tf_shape,
+                          const fcl::Transform3<typename Shape::S>& tf_mesh, const Solver* nsolver,
+                          fcl::Vector3<typename Shape::S>& position, fcl::Vector3<typename Shape::S>& normal,
+                          typename Shape::S& depth)
+{
+  using S = typename Shape::S;
+  if (nsolver->shapeTriangleIntersect(shape, tf_shape, p[0], p[1], p[2], tf_mesh, &position, &depth, &normal)) return;
+  triangle_shape::Vec t[3];
+  const triangle_shape::Closest c = leaf.geometry().closest(leaf.moved(p.data(), t));
+  const Eigen::Isometry3d to_world = tf_shape.template cast<double>();
+  triangle_shape::Vec towards = c.on_shape - c.on_triangle;  // from the triangle towards the shape
+  if (!(towards.squaredNorm() > 0))
+  {
+    towards = (t[1] - t[0]).cross(t[2] - t[0]);
+    if (towards.dot(-c.on_triangle) < 0) towards = -towards;
+    if (!(towards.squaredNorm() > 0)) towards = -c.on_triangle;
+    if (!(towards.squaredNorm() > 0)) towards = triangle_shape::Vec::UnitX();
+  }
+  position = (to_world * ((c.on_triangle + c.on_shape) / 2)).template cast<S>();
+  normal = -(to_world.linear() * towards.normalized()).template cast<S>();
+  depth = 0;
+}
+
 /// FCL's meshShapeCollisionOrientedNodeLeafTesting for triangle primitive_id of model1 (mesh at tf1) against
-/// model2 (at tf2), with the verdict of leaf.meets. Contacts take position, normal and depth from FCL's solver
-/// where it finds the pair too; where it does not (a pair within the tolerance that FCL's GJK calls apart), the
-/// contact sits midway between the closest points with depth 0 and the normal from the triangle towards the shape.
+/// model2 (at tf2), with the verdict of leaf.meets and the contact of shapeTriangleContact.
 template <typename BV, typename Shape, typename Solver>
 void meshShapeLeafTesting(const TriangleShapeLeaf<Shape>& leaf, int primitive_id, const fcl::BVHModel<BV>* model1,
                           const Shape& model2, const fcl::Vector3<typename Shape::S>* vertices,
@@ -757,25 +784,8 @@ void meshShapeLeafTesting(const TriangleShapeLeaf<Shape>& leaf, int primitive_id
     {
       S depth;
       fcl::Vector3<S> normal, position;
-      if (nsolver->shapeTriangleIntersect(model2, tf2, p[0], p[1], p[2], tf1, &position, &depth, &normal))
-        normal = -normal;
-      else
-      {
-        triangle_shape::Vec t[3];
-        const triangle_shape::Closest c = leaf.geometry().closest(leaf.moved(p.data(), t));
-        const Eigen::Isometry3d to_world = tf2.template cast<double>();
-        triangle_shape::Vec towards = c.on_shape - c.on_triangle;
-        if (!(towards.squaredNorm() > 0))
-        {
-          towards = (t[1] - t[0]).cross(t[2] - t[0]);
-          if (towards.dot(-c.on_triangle) < 0) towards = -towards;
-          if (!(towards.squaredNorm() > 0)) towards = -c.on_triangle;
-          if (!(towards.squaredNorm() > 0)) towards = triangle_shape::Vec::UnitX();
-        }
-        position = (to_world * ((c.on_triangle + c.on_shape) / 2)).template cast<S>();
-        normal = (to_world.linear() * towards.normalized()).template cast<S>();
-        depth = 0;
-      }
+      shapeTriangleContact(leaf, p, model2, tf2, tf1, nsolver, position, normal, depth);
+      normal = -normal;  // FCL's mesh-shape contacts point from the mesh towards the shape
       result.addContact(fcl::Contact<S>(model1, &model2, primitive_id, fcl::Contact<S>::NONE, position, normal, depth));
     }
   }

@@ -4,7 +4,6 @@
 
 #include <cstddef>
 #include <optional>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -19,7 +18,9 @@
 #include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/narrowphase/triangle_intersection.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
+#include "fcl_rs/traversal/descent.h"
 #include "fcl_rs/traversal/moved_frames.h"
+#include "fcl_rs/traversal/shape_switch.h"
 
 namespace fcl_rs {
 
@@ -97,82 +98,113 @@ constexpr int kTriangleTestMaxSizeRatio = 4;
 /// Requests for at most this many contacts descend into the nearer child first (collideTrees).
 constexpr std::size_t kNearerFirstMaxContacts = 16;
 
-/// Runs the mesh-mesh traversal of node: FCL's depth-first order (split the larger node, stop once the
-/// request is satisfied) on an explicit stack with direct calls. FCL's generic recursion makes five virtual
-/// calls per visited pair, which costs about as much as an RS test. A split pair goes on with its first child
-/// at once and stacks only the second (docs/kernel.md: 8 % fewer instructions than stacking both).
-/// A node of model2 usually meets several nodes of model1, so its frame is moved into model1's coordinates
-/// once per query (MovedFrames), not once per test.
+namespace detail {
+
+/// The descent policy of mesh-mesh collision (descendDepthFirst).
 /// Two leaves go straight to the triangle test, with no RS test first: the leaf test opens with a certified
 /// plane rejection that costs less than an RS test and rejects most of what the RS test would, so the RS test
 /// of a leaf pair mostly duplicated it (docs/kernel.md). Unlike FCL's recursion, a visited leaf pair therefore
 /// counts as a leaf test, not as a BV test. A leaf and an inner node at least half its diagonal test the leaf's
 /// triangle against the inner node's nine slabs (leafTriangleTesting, kTriangleTestMaxSizeRatio).
+/// A node of model2 usually meets several nodes of model1, so its frame is moved into model1's coordinates
+/// once per query (MovedFrames), not once per test.
 /// Child order: FCL's (left first) unless the request stops after a few contacts; then the child whose origin
 /// (the mean of its points) is nearer the other node's goes first. Contacts cluster where the meshes
 /// interpenetrate, so that reaches the first one with 13-59 % fewer BV tests on the benchmark pairs
 /// (docs/kernel.md); an exhaustive request visits every overlapping pair in any order, and ordering would cost
 /// it about 3 %.
 template <typename S>
+class MeshCollisionDescent
+{
+public:
+  using Node = MeshCollisionTraversalNodeRS<S>;
+  using BVNode = fcl::BVNode<RS<S>>;
+  struct Pair
+  {
+    int b1, b2;
+  };
+  struct Visit
+  {
+    int b1, b2;
+    const BVNode& n1;
+    const BVNode& n2;
+    bool leaf1, leaf2;
+  };
+  static constexpr int kMaxChildren = 2;
+
+  explicit MeshCollisionDescent(Node& node)
+    : node_(node), model1_(*node.model1), model2_(*node.model2), moved_(node.R, node.T, model2_, node.world_offsets),
+      nearer_first_(!node.request.enable_cost && node.request.num_max_contacts <= kNearerFirstMaxContacts)
+  {
+  }
+  Visit visit(const Pair& p) const
+  {
+    const BVNode& n1 = model1_.getBV(p.b1);
+    const BVNode& n2 = model2_.getBV(p.b2);
+    return Visit{p.b1, p.b2, n1, n2, isLeaf(n1), isLeaf(n2)};
+  }
+  S size1(const Visit& v) const { return v.n1.bv.size(); }
+  S size2(const Visit& v) const { return v.n2.bv.size(); }
+  bool leafTest(const Visit& v)
+  {
+    node_.Node::leafTesting(v.b1, v.b2);
+    return node_.request.isSatisfied(*node_.result);
+  }
+  bool nodeApart(const Visit& v)
+  {
+    // (Written out: a helper for the size rule costs 1-3 % more instructions, gcc 12.)
+    constexpr S ratio = kTriangleTestMaxSizeRatio;
+    return v.leaf1 && v.n1.bv.size() <= ratio * v.n2.bv.size()   ? node_.leafTriangleTesting(v.b1, v.b2, moved_(v.b2))
+           : v.leaf2 && v.n2.bv.size() <= ratio * v.n1.bv.size() ? node_.leafTriangleTesting(v.b1, v.b2)
+                                                                  : node_.Node::BVTesting(v.b1, v.b2, moved_(v.b2));
+  }
+  int children(const Visit& v, bool first, Pair* out)
+  {
+    if (first)
+    {
+      int near = leftChild(v.n1), far = rightChild(v.n1);
+      if (nearer_first_)
+      {
+        const fcl::Vector3<S>& c2 = moved_(v.b2).origin;
+        if ((model1_.getBV(far).bv.origin - c2).squaredNorm() < (model1_.getBV(near).bv.origin - c2).squaredNorm())
+          std::swap(near, far);
+      }
+      out[0] = Pair{near, v.b2};
+      out[1] = Pair{far, v.b2};
+    }
+    else
+    {
+      int near = leftChild(v.n2), far = rightChild(v.n2);
+      if (nearer_first_)
+      {
+        const fcl::Vector3<S>& c1 = v.n1.bv.origin;
+        if ((moved_(far).origin - c1).squaredNorm() < (moved_(near).origin - c1).squaredNorm()) std::swap(near, far);
+      }
+      out[0] = Pair{v.b1, near};
+      out[1] = Pair{v.b1, far};
+    }
+    return 2;
+  }
+
+private:
+  Node& node_;
+  const fcl::BVHModel<RS<S>>& model1_;
+  const fcl::BVHModel<RS<S>>& model2_;
+  MovedFrames<S, BoxedFrame<S>> moved_;
+  bool nearer_first_;
+};
+
+}  // namespace detail
+
+/// Runs the mesh-mesh traversal of node on the descent engine (detail::descendDepthFirst, FCL's order: split the
+/// larger node, stop once the request is satisfied) with direct calls: FCL's generic recursion makes five virtual
+/// calls per visited pair, which costs about as much as an RS test. detail::MeshCollisionDescent says what is
+/// tested and in which order.
+template <typename S>
 void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
 {
-  const fcl::BVHModel<RS<S>>& model1 = *node.model1;
-  const fcl::BVHModel<RS<S>>& model2 = *node.model2;
-  detail::MovedFrames<S, detail::BoxedFrame<S>> moved(node.R, node.T, model2, node.world_offsets);
-  std::vector<std::pair<int, int>> stack;  // the second children of the pairs split so far
-  stack.reserve(128);
-  const bool nearer_first = !node.request.enable_cost && node.request.num_max_contacts <= kNearerFirstMaxContacts;
-  int b1 = 0, b2 = 0;
-  for (;;)
-  {
-    const fcl::BVNode<RS<S>>& n1 = model1.getBV(b1);
-    const fcl::BVNode<RS<S>>& n2 = model2.getBV(b2);
-    const bool leaf1 = isLeaf(n1), leaf2 = isLeaf(n2);
-    bool done = true;
-    if (leaf1 && leaf2)
-    {
-      node.MeshCollisionTraversalNodeRS<S>::leafTesting(b1, b2);
-      if (node.request.isSatisfied(*node.result)) return;
-    }
-    else
-    {
-      // (Written out: a helper for the size rule costs 1-3 % more instructions, gcc 12.)
-      constexpr S ratio = kTriangleTestMaxSizeRatio;
-      done = leaf1 && n1.bv.size() <= ratio * n2.bv.size()   ? node.leafTriangleTesting(b1, b2, moved(b2))
-             : leaf2 && n2.bv.size() <= ratio * n1.bv.size() ? node.leafTriangleTesting(b1, b2)
-                                                              : node.MeshCollisionTraversalNodeRS<S>::BVTesting(b1, b2, moved(b2));
-    }
-    if (done)
-    {
-      if (stack.empty()) return;
-      std::tie(b1, b2) = stack.back();
-      stack.pop_back();
-    }
-    else if (leaf2 || (!leaf1 && n1.bv.size() > n2.bv.size()))
-    {
-      int near = leftChild(n1), far = rightChild(n1);
-      if (nearer_first)
-      {
-        const fcl::Vector3<S>& c2 = moved(b2).origin;
-        if ((model1.getBV(far).bv.origin - c2).squaredNorm() < (model1.getBV(near).bv.origin - c2).squaredNorm())
-          std::swap(near, far);
-      }
-      stack.emplace_back(far, b2);
-      b1 = near;
-    }
-    else
-    {
-      int near = leftChild(n2), far = rightChild(n2);
-      if (nearer_first)
-      {
-        const fcl::Vector3<S>& c1 = n1.bv.origin;
-        if ((moved(far).origin - c1).squaredNorm() < (moved(near).origin - c1).squaredNorm())
-          std::swap(near, far);
-      }
-      stack.emplace_back(b1, far);
-      b2 = near;
-    }
-  }
+  detail::MeshCollisionDescent<S> descent(node);
+  detail::descendDepthFirst(descent, {0, 0});
 }
 
 /// How a shape is tested against the mesh's nodes: by its RS fitted once in the mesh's frame.
@@ -341,16 +373,7 @@ bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& nod
                 fcl::CollisionResult<typename Shape::S>& result,
                 std::optional<ShapeBound<typename Shape::S, Shape>> bound = std::nullopt)
 {
-  if (model1.getModelType() != fcl::BVH_MODEL_TRIANGLES) return false;
-  node.model1 = &model1;
-  node.tf1 = tf1;
-  node.model2 = &model2;
-  node.tf2 = tf2;
-  node.nsolver = nsolver;
-  node.vertices = model1.vertices;
-  node.tri_indices = model1.tri_indices;
-  node.request = request;
-  node.result = &result;
+  if (!detail::setUpMeshShapeNode(node, model1, tf1, model2, tf2, nsolver, request, result)) return false;
   node.cost_density = model1.cost_density * model2.cost_density;
   node.leaf.emplace(model2, tf1, tf2);
   if (bound)
@@ -365,35 +388,35 @@ bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& nod
   return true;
 }
 
-/// Runs the mesh-shape traversal of node: FCL's order (the mesh's node first against the shape's bound, left child
-/// first, stop once the request is satisfied) on an explicit stack with direct calls, as collideTrees does for two
-/// meshes; FCL's recursion makes five virtual calls per visited node.
+namespace detail {
+
+/// The descent policy of mesh-shape collision (descendDepthFirst): a leaf is tested against the shape's bound
+/// before the leaf test, as in FCL's recursion.
+template <typename Node>
+class MeshShapeCollisionDescent : public MeshShapeDescent<Node>
+{
+public:
+  using typename MeshShapeDescent<Node>::Visit;
+  using MeshShapeDescent<Node>::MeshShapeDescent;
+
+  bool leafTest(const Visit& v)
+  {
+    if (this->node_.Node::BVTesting(v.b1, 0)) return false;
+    this->node_.Node::leafTesting(v.b1, 0);
+    return this->node_.request.isSatisfied(*this->node_.result);
+  }
+  bool nodeApart(const Visit& v) { return this->node_.Node::BVTesting(v.b1, 0); }
+};
+
+}  // namespace detail
+
+/// Runs the mesh-shape traversal of node on the descent engine (detail::MeshShapeCollisionDescent) with direct
+/// calls, as collideTrees does for two meshes; FCL's recursion makes five virtual calls per visited node.
 template <typename Shape, typename NarrowPhaseSolver>
 void collideMeshShape(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& node)
 {
-  using Node = MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>;
-  const auto& model = *node.model1;
-  std::vector<int> stack;  // the right children of the nodes split so far
-  stack.reserve(64);
-  int b = 0;
-  for (;;)
-  {
-    const auto& n = model.getBV(b);
-    if (!node.Node::BVTesting(b, 0))
-    {
-      if (!isLeaf(n))
-      {
-        stack.push_back(rightChild(n));
-        b = leftChild(n);
-        continue;
-      }
-      node.Node::leafTesting(b, 0);
-      if (node.request.isSatisfied(*node.result)) return;
-    }
-    if (stack.empty()) return;
-    b = stack.back();
-    stack.pop_back();
-  }
+  detail::MeshShapeCollisionDescent<MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>> descent(node);
+  detail::descendDepthFirst(descent, {0}, detail::DescentConfig{64});
 }
 
 }  // namespace fcl_rs

@@ -21,58 +21,12 @@
 #include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/narrowphase/triangle_intersection.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
+#include "fcl_rs/traversal/descent.h"
 #include "fcl_rs/traversal/moved_frames.h"
 #include "fcl_rs/traversal/per_query_table.h"
+#include "fcl_rs/traversal/shape_switch.h"
 
 namespace fcl_rs {
-
-/// The distance traversal's lower bound on the distance between RS volumes b1 and b2 (b2 mapped into b1's
-/// coordinates by x1 = R x2 + T). The gap between two convex sets along any direction, over the direction's
-/// length, is a lower bound on their distance, so the bound is the largest such gap over a few directions,
-/// cheapest first, returning as soon as it reaches `enough` (the traversal prunes the pair then, whatever the
-/// bound): first the principal boxes (which contain the polytopes) along their six face normals, a few dozen
-/// flops; then the polytopes' exact supports along the line c through the two box centres. Supports are
-/// positively homogeneous, so that gap is measured along c itself and divided by |c| once (no unit vector).
-/// Gaps are reduced by their rounding error, so the result never exceeds the true distance: measured along c,
-/// every error of a unit direction's gap is scaled by |c| and then divided by it again, and the quotient adds
-/// a few ulps of the gap, which is at most |c| (well inside pairRoundingBound's margin).
-/// Most bounds only order a pair that is split anyway (docs/kernel.md): a second exact direction (the line
-/// through the extreme vertices found along c, tighter on about half the pairs) and fcl_rs::distance (all 18
-/// slab directions of both volumes) both cost more CPU time than the BV and triangle tests they save.
-/// moved2 = detail::MovedFrame(R, T, b2) (the overload below builds it; traversals move each node once).
-template <typename S>
-S distanceLowerBound(const detail::MovedFrame<S>& moved2, const RS<S>& b1, const RS<S>& b2,
-                     S enough = std::numeric_limits<S>::max())
-{
-  if (b1.empty() || b2.empty()) return std::numeric_limits<S>::max();
-  using V = fcl::Vector3<S>;
-  const detail::PairFrame<S> f(moved2, b1);
-  const fcl::Matrix3<S>& M = f.M;
-  // Principal boxes: half extents, and the vector from b1's box centre to b2's in b1's frame (c) and b2's (c2).
-  const V& h1 = f.box1.h;
-  const V& h2 = f.box2.h;
-  const V c = f.centre2 - f.box1.c;
-  const V c2 = M.transpose() * c;
-  const fcl::Matrix3<S> A = M.cwiseAbs();
-  // Box gaps along b1's axes (b2's box reaches h2 . |row i of M| along axis i) and b2's axes.
-  const V gaps1 = c.cwiseAbs() - h1 - A * h2;
-  const V gaps2 = c2.cwiseAbs() - A.transpose() * h1 - h2;
-  const S boxes = std::max(gaps1.maxCoeff(), gaps2.maxCoeff()) - f.tol;
-  if (boxes >= enough) return boxes;
-  const S squared_length = c.squaredNorm();
-  if (!(squared_length > 0)) return std::max(boxes, S(0));
-  // The polytopes, exactly, along c: b2's lowest point minus b1's highest, times |c|.
-  const S along = c.dot(f.t()) - detail::SupportCorner<S>(b2, V(-c2)).max() - detail::SupportCorner<S>(b1, c).max();
-  return std::max({boxes, along / std::sqrt(squared_length) - f.tol, S(0)});
-}
-
-/// distanceLowerBound for b2 mapped into b1's coordinates by x1 = R x2 + T.
-template <typename S>
-S distanceLowerBound(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b1, const RS<S>& b2,
-                     S enough = std::numeric_limits<S>::max())
-{
-  return distanceLowerBound(detail::MovedFrame<S>(R, T, b2), b1, b2, enough);
-}
 
 /// True when triangles p and q (same coordinates) are at least `distance` apart along the line through their
 /// centroids, so that their distance cannot improve a result of `distance`: for any vector d, the gap between
@@ -146,109 +100,105 @@ private:
   S start_distance_ = 0;
 };
 
-/// Runs the mesh-mesh distance traversal of node (preprocess, descent, postprocess), best first: the pair with
-/// the smallest lower bound is split next (the larger node, as FCL's descent), both children bounded, and the
-/// search ends when the smallest bound left cannot improve the result, so every pair split has a bound below the
-/// final distance. FCL's ordered depth-first descent splits every pair whose bound is below the distance found
-/// when it reaches it, which in the subtrees searched first is still far above the final distance
-/// (fcl_rs_bench_distance: 1.0-1.5x the BV tests and 1.2-1.7x the triangle tests, docs/kernel.md). The nearer
-/// child is split at once when no waiting pair is nearer, which spares most heap operations. A child pair of two
-/// leaves is measured at once instead of bounded. As in collideTrees, a node of model2 has its frame moved into
-/// model1's coordinates once per query, not once per bound.
+namespace detail {
+
+/// The descent policy of mesh-mesh distance (descendBestFirst). A pair of leaves is bounded by its triangles'
+/// distance itself, which is exact and cheaper than an RS bound (docs/kernel.md): it is measured at once, and the
+/// pair is never visited again. A gap along the line through the triangles' centroids first skips pairs that
+/// cannot improve the result (15-52 % of them in fcl_rs_bench_distance). As in mesh-mesh collision, a node of
+/// model2 has its frame moved into model1's coordinates once per query, not once per bound, and so has each of
+/// model2's vertices (as FCL's triangle distance moves them) when first used.
 template <typename S>
-void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
+class MeshDistanceDescent
 {
+public:
   using Node = MeshDistanceTraversalNodeRS<S>;
-  const fcl::BVHModel<RS<S>>& model1 = *node.model1;
-  const fcl::BVHModel<RS<S>>& model2 = *node.model2;
+  using BVNode = fcl::BVNode<RS<S>>;
+  using V = fcl::Vector3<S>;
   struct Pair
   {
     int b1, b2;
-    S bound;
   };
-  const fcl::Matrix3<S> R = node.tf.linear();
-  const fcl::Vector3<S> T = node.tf.translation();
-  detail::MovedFrames<S> moved(R, T, model2);
-  // model2's vertices in model1's coordinates, each moved (as FCL's triangle distance moves them) when first used.
-  using V = fcl::Vector3<S>;
-  detail::PerQueryTable<V> moved_vertices(std::size_t(std::max(model2.num_vertices, 0)));
-  const auto movedVertex = [&](int i) -> const V& {
-    return moved_vertices.get(std::size_t(i), [&] { return V(node.tf * node.vertices2[i]); });
+  struct Visit
+  {
+    int b1, b2;
+    const BVNode& n1;
+    const BVNode& n2;
+    bool leaf1, leaf2;
   };
-  // A pair of leaves is bounded by its triangles' distance itself, which is exact and cheaper than an RS bound
-  // (docs/kernel.md): it is measured at once, and the pair is never visited again. A gap along the line through
-  // the triangles' centroids first skips pairs that cannot improve the result (15-52 % of them in
-  // fcl_rs_bench_distance).
-  const auto bound = [&](int b1, int b2) {
-    if (!isLeaf(model1.getBV(b1)) || !isLeaf(model2.getBV(b2)))
-      return node.Node::BVTesting(b1, b2, moved(b2));
-    const int id1 = primitiveId(model1.getBV(b1)), id2 = primitiveId(model2.getBV(b2));
-    const auto p_vertices = triangleVertices(node.vertices1, node.tri_indices1[id1]);
-    const V* p = p_vertices.data();
-    const std::array<std::size_t, 3> t2 = vertexIds(node.tri_indices2[id2]);
-    const V q[3] = {movedVertex(int(t2[0])), movedVertex(int(t2[1])), movedVertex(int(t2[2]))};
-    if (!leafCannotImprove(p, q, node.result->min_distance))
+  static constexpr int kMaxChildren = 2;
+
+  explicit MeshDistanceDescent(Node& node)
+    : node_(node), model1_(*node.model1), model2_(*node.model2), R_(node.tf.linear()), T_(node.tf.translation()),
+      moved_(R_, T_, model2_), moved_vertices_(std::size_t(std::max(model2_.num_vertices, 0)))
+  {
+  }
+  Visit visit(const Pair& p) const
+  {
+    const BVNode& n1 = model1_.getBV(p.b1);
+    const BVNode& n2 = model2_.getBV(p.b2);
+    return Visit{p.b1, p.b2, n1, n2, isLeaf(n1), isLeaf(n2)};
+  }
+  S size1(const Visit& v) const { return v.n1.bv.size(); }
+  S size2(const Visit& v) const { return v.n2.bv.size(); }
+  int children(const Visit& v, bool first, Pair* out) const
+  {
+    out[0] = first ? Pair{leftChild(v.n1), v.b2} : Pair{v.b1, leftChild(v.n2)};
+    out[1] = first ? Pair{rightChild(v.n1), v.b2} : Pair{v.b1, rightChild(v.n2)};
+    return 2;
+  }
+  bool canStop(S bound) const { return node_.Node::canStop(bound); }
+  void leafTest(const Visit& v) { node_.Node::leafTesting(v.b1, v.b2); }  // two single-triangle models
+  S bound(const Pair& p)
+  {
+    const BVNode& n1 = model1_.getBV(p.b1);
+    const BVNode& n2 = model2_.getBV(p.b2);
+    if (!isLeaf(n1) || !isLeaf(n2)) return node_.Node::BVTesting(p.b1, p.b2, moved_(p.b2));
+    const int id1 = primitiveId(n1), id2 = primitiveId(n2);
+    const auto p_vertices = triangleVertices(node_.vertices1, node_.tri_indices1[id1]);
+    const V* tri1 = p_vertices.data();
+    const std::array<std::size_t, 3> t2 = vertexIds(node_.tri_indices2[id2]);
+    const V tri2[3] = {movedVertex(int(t2[0])), movedVertex(int(t2[1])), movedVertex(int(t2[2]))};
+    if (!leafCannotImprove(tri1, tri2, node_.result->min_distance))
     {
-      if (node.enable_statistics) node.num_leaf_tests++;
+      if (node_.enable_statistics) node_.num_leaf_tests++;
       V P, Q;
-      const S d = fcl::detail::TriangleDistance<S>::triDistance(p, q, P, Q);
-      if (node.request.enable_nearest_points)
-        node.result->update(d, node.model1, node.model2, id1, id2, P, Q);
+      const S d = fcl::detail::TriangleDistance<S>::triDistance(tri1, tri2, P, Q);
+      if (node_.request.enable_nearest_points)
+        node_.result->update(d, node_.model1, node_.model2, id1, id2, P, Q);
       else
-        node.result->update(d, node.model1, node.model2, id1, id2);
+        node_.result->update(d, node_.model1, node_.model2, id1, id2);
     }
     return std::numeric_limits<S>::max();
-  };
-  // A min-heap on bound; ties pop in no particular order.
-  std::vector<Pair> waiting;
-  waiting.reserve(128);
-  const auto farther = [](const Pair& x, const Pair& y) { return x.bound > y.bound; };
-  const auto wait = [&](const Pair& p) {
-    if (node.Node::canStop(p.bound)) return;
-    waiting.push_back(p);
-    std::push_heap(waiting.begin(), waiting.end(), farther);
-  };
-  node.Node::preprocess();
-  Pair pair{0, 0, S(0)};
-  for (;;)
-  {
-    const fcl::BVNode<RS<S>>& n1 = model1.getBV(pair.b1);
-    const fcl::BVNode<RS<S>>& n2 = model2.getBV(pair.b2);
-    const bool leaf1 = isLeaf(n1), leaf2 = isLeaf(n2);
-    if (leaf1 && leaf2)
-      node.Node::leafTesting(pair.b1, pair.b2);  // two single-triangle models
-    else
-    {
-      Pair a{pair.b1, pair.b2, S(0)}, c = a;
-      if (leaf2 || (!leaf1 && n1.bv.size() > n2.bv.size()))
-      {
-        a.b1 = leftChild(n1);
-        c.b1 = rightChild(n1);
-      }
-      else
-      {
-        a.b2 = leftChild(n2);
-        c.b2 = rightChild(n2);
-      }
-      a.bound = bound(a.b1, a.b2);
-      c.bound = bound(c.b1, c.b2);
-      if (c.bound < a.bound) std::swap(a, c);
-      wait(c);
-      if (!node.Node::canStop(a.bound) && (waiting.empty() || !(waiting.front().bound < a.bound)))
-      {
-        pair = a;
-        continue;
-      }
-      wait(a);
-    }
-    // The nearest waiting pair; if it cannot improve the result, no pair left can.
-    if (waiting.empty()) break;
-    std::pop_heap(waiting.begin(), waiting.end(), farther);
-    pair = waiting.back();
-    waiting.pop_back();
-    if (node.Node::canStop(pair.bound)) break;
   }
-  node.Node::postprocess();
+
+private:
+  const V& movedVertex(int i)
+  {
+    return moved_vertices_.get(std::size_t(i), [&] { return V(node_.tf * node_.vertices2[i]); });
+  }
+
+  Node& node_;
+  const fcl::BVHModel<RS<S>>& model1_;
+  const fcl::BVHModel<RS<S>>& model2_;
+  const fcl::Matrix3<S> R_;
+  const fcl::Vector3<S> T_;
+  MovedFrames<S> moved_;
+  PerQueryTable<V> moved_vertices_;
+};
+
+}  // namespace detail
+
+/// Runs the mesh-mesh distance traversal of node (preprocess, descent, postprocess) on the descent engine, best
+/// first (detail::descendBestFirst; fcl_rs_bench_distance: FCL's ordered depth-first descent makes 1.0-1.5x the
+/// BV tests and 1.2-1.7x the triangle tests, docs/kernel.md).
+template <typename S>
+void distanceTrees(MeshDistanceTraversalNodeRS<S>& node)
+{
+  detail::MeshDistanceDescent<S> descent(node);
+  node.MeshDistanceTraversalNodeRS<S>::preprocess();
+  detail::descendBestFirst<detail::MeshDistanceDescent<S>, S>(descent, {0, 0});
+  node.MeshDistanceTraversalNodeRS<S>::postprocess();
 }
 
 /// Sets up node for model1 at tf1 against model2 at tf2; false unless both are triangle meshes.
@@ -339,21 +289,45 @@ bool initialize(MeshShapeDistanceTraversalNodeRS<Shape, NarrowPhaseSolver>& node
                 fcl::DistanceResult<typename Shape::S>& result)
 {
   using S = typename Shape::S;
-  if (model1.getModelType() != fcl::BVH_MODEL_TRIANGLES) return false;
-  node.request = request;
-  node.result = &result;
-  node.model1 = &model1;
-  node.tf1 = tf1;
-  node.model2 = &model2;
-  node.tf2 = tf2;
-  node.nsolver = nsolver;
-  node.vertices = model1.vertices;
-  node.tri_indices = model1.tri_indices;
+  if (!detail::setUpMeshShapeNode(node, model1, tf1, model2, tf2, nsolver, request, result)) return false;
   node.rel_err = request.rel_err;
   node.abs_err = request.abs_err;
   node.bound.reset(new ShapeDistanceBound<S, Shape>(model2, tf1.inverse(Eigen::Isometry) * tf2));
   node.leaf.emplace(model2, tf1, tf2);
   return true;
+}
+
+namespace detail {
+
+/// The descent policy of mesh-shape distance (descendBestFirst): a leaf is bounded like any node and measured
+/// when the descent reaches it (a triangle-shape distance costs far more than a bound).
+template <typename Node>
+class MeshShapeDistanceDescent : public MeshShapeDescent<Node>
+{
+public:
+  using S = typename Node::S;
+  using typename MeshShapeDescent<Node>::Pair;
+  using typename MeshShapeDescent<Node>::Visit;
+  using MeshShapeDescent<Node>::MeshShapeDescent;
+
+  bool canStop(S bound) const { return this->node_.Node::canStop(bound); }
+  void leafTest(const Visit& v) { this->node_.Node::leafTesting(v.b1, 0); }
+  S bound(const Pair& p) { return this->node_.Node::BVTesting(p.b1, 0); }
+};
+
+}  // namespace detail
+
+/// Runs the mesh-shape distance traversal of node (preprocess, descent, postprocess) on the descent engine, best
+/// first as distanceTrees.
+template <typename Shape, typename NarrowPhaseSolver>
+void distanceMeshShape(MeshShapeDistanceTraversalNodeRS<Shape, NarrowPhaseSolver>& node)
+{
+  using Node = MeshShapeDistanceTraversalNodeRS<Shape, NarrowPhaseSolver>;
+  detail::MeshShapeDistanceDescent<Node> descent(node);
+  node.Node::preprocess();
+  detail::descendBestFirst<detail::MeshShapeDistanceDescent<Node>, typename Shape::S>(descent, {0},
+                                                                                      detail::DescentConfig{64});
+  node.Node::postprocess();
 }
 
 }  // namespace fcl_rs

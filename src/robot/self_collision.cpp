@@ -82,6 +82,26 @@ struct LinkShape
   RS<S> bv;      ///< its RS in its own frame, fitted once (RS checks place it per query instead of refitting)
 };
 
+/// f(shape) for a link's shape, cast to its type: a box, cylinder or sphere (makeShape).
+template <typename S, typename F>
+bool withLinkShape(const fcl::CollisionGeometry<S>& geometry, F&& f)
+{
+  const auto not_a_link_shape = []() -> bool {
+    throw std::logic_error("fcl_rs::SelfCollision: a link shape is not a box, cylinder or sphere");
+  };
+  return detail::withShape(
+      geometry,
+      [&](const auto& shape) -> bool {
+        using Shape = std::decay_t<decltype(shape)>;
+        if constexpr (std::is_same_v<Shape, fcl::Box<S>> || std::is_same_v<Shape, fcl::Cylinder<S>> ||
+                      std::is_same_v<Shape, fcl::Sphere<S>>)
+          return f(shape);
+        else
+          return not_a_link_shape();
+      },
+      not_a_link_shape);
+}
+
 /// The mesh trees of all links for one BV type, and the mesh-mesh and mesh-shape tests on them.
 template <typename S>
 class MeshTrees
@@ -129,13 +149,8 @@ public:
   {
     if constexpr (std::is_same<BV, RS<S>>::value)
     {
-      switch (shape.geometry->getNodeType())
-      {
-        case fcl::GEOM_BOX: return meshShapeRS<fcl::Box<S>>(a, ta, shape, ts, request);
-        case fcl::GEOM_CYLINDER: return meshShapeRS<fcl::Cylinder<S>>(a, ta, shape, ts, request);
-        case fcl::GEOM_SPHERE: return meshShapeRS<fcl::Sphere<S>>(a, ta, shape, ts, request);
-        default: throw std::logic_error("fcl_rs::SelfCollision: a link shape is not a box, cylinder or sphere");
-      }
+      return withLinkShape(*shape.geometry,
+                           [&](const auto& geometry) { return meshShapeRS(a, ta, geometry, shape, ts, request); });
     }
     else
     {
@@ -147,7 +162,7 @@ public:
 
 private:
   template <typename Shape>
-  bool meshShapeRS(int a, const Tf<S>& ta, const LinkShape<S>& shape, const Tf<S>& ts,
+  bool meshShapeRS(int a, const Tf<S>& ta, const Shape& geometry, const LinkShape<S>& shape, const Tf<S>& ts,
                    const fcl::CollisionRequest<S>& request) const
   {
     // Most shapes that pass the link test are still apart from the mesh's root: one plain RS test decides them
@@ -162,7 +177,6 @@ private:
     solver.collision_tolerance = request.gjk_tolerance;
     MeshShapeCollisionTraversalNodeRS<Shape, Solver> node;
     fcl::CollisionResult<S> result;
-    const Shape& geometry = static_cast<const Shape&>(*shape.geometry);
     if constexpr (std::is_same<Shape, fcl::Sphere<S>>::value)  // its bound needs no fitted volume
       initialize(node, *models_[a], ta, geometry, ts, &solver, request, result);
     else
@@ -217,14 +231,8 @@ public:
   bool meshShape(int a, const Tf<S>&, const LinkShape<S>& link_shape, const Tf<S>& ts,
                  const fcl::CollisionRequest<S>& request) const override
   {
-    const fcl::CollisionGeometry<S>& shape = *link_shape.geometry;
-    switch (shape.getNodeType())
-    {
-      case fcl::GEOM_BOX: return meshShapeOf(a, static_cast<const fcl::Box<S>&>(shape), ts, request);
-      case fcl::GEOM_CYLINDER: return meshShapeOf(a, static_cast<const fcl::Cylinder<S>&>(shape), ts, request);
-      case fcl::GEOM_SPHERE: return meshShapeOf(a, static_cast<const fcl::Sphere<S>&>(shape), ts, request);
-      default: throw std::logic_error("fcl_rs::SelfCollision: a link shape is not a box, cylinder or sphere");
-    }
+    return withLinkShape(*link_shape.geometry,
+                         [&](const auto& shape) { return meshShapeOf(a, shape, ts, request); });
   }
 
   const fcl::CollisionGeometry<S>* localModel(int) const override { return nullptr; }
