@@ -15,6 +15,7 @@
 
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/collision_traversal.h"
+#include "fcl_rs/traversal/octree_traversal.h"
 #include "fcl_rs/validate.h"
 
 namespace fcl_rs {
@@ -65,6 +66,33 @@ std::size_t meshShape(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S
   return result.numContacts();
 }
 
+#if FCL_HAVE_OCTOMAP
+/// FCL's drivers of a mesh and an octree (fcl::detail::OcTreeBVHCollide, BVHOcTreeCollide, approximate-cost
+/// branch included) with the RS traversal. Contacts name the octree first in either order, as FCL's do.
+template <typename S, typename Solver>
+std::size_t meshOcTree(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh,
+                       const fcl::CollisionGeometry<S>* octree, const fcl::Transform3<S>& tf_octree, bool mesh_first,
+                       const Solver* solver, const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+{
+  if (request.isSatisfied(result)) return result.numContacts();
+  const bool approximate_cost = request.enable_cost && request.use_approximate_cost;
+  fcl::CollisionRequest<S> tree_request(request);
+  tree_request.enable_cost = request.enable_cost && !approximate_cost;
+  collideOcTreeMesh(static_cast<const fcl::OcTree<S>&>(*octree), tf_octree, model, tf_mesh, *solver, tree_request,
+                    result);
+  if (approximate_cost)
+    addApproximateCost(model, tf_mesh, request, result, [&](const fcl::Box<S>& box, const fcl::Transform3<S>& box_tf,
+                                                            const fcl::CollisionRequest<S>& only_cost_request) {
+      if (mesh_first)
+        fcl::detail::ShapeOcTreeCollide<fcl::Box<S>, Solver>(&box, box_tf, octree, tf_octree, solver,
+                                                              only_cost_request, result);
+      else
+        fcl::detail::OcTreeShapeCollide<fcl::Box<S>, Solver>(octree, tf_octree, &box, box_tf, solver,
+                                                              only_cost_request, result);
+    });
+  return result.numContacts();
+}
+#endif
 
 template <typename S, typename Solver>
 std::size_t meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
@@ -138,9 +166,13 @@ std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3
   const auto* other = mesh_first ? o2 : o1;
   const auto& tf_mesh = mesh_first ? tf1 : tf2;
   const auto& tf_other = mesh_first ? tf2 : tf1;
+#if FCL_HAVE_OCTOMAP
+  if (other->getNodeType() == fcl::GEOM_OCTREE)
+    return meshOcTree(mesh_first ? *m1 : *m2, tf_mesh, other, tf_other, mesh_first, solver, request, result);
+#endif
   if (other->getObjectType() != fcl::OT_GEOM)
     detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
-                            "an RS mesh collides with RS meshes and primitive shapes only");
+                            "an RS mesh collides with RS meshes, octrees and primitive shapes only");
   if (other->getNodeType() == fcl::GEOM_TRIANGLE)
     return meshTriangle(mesh_first ? *m1 : *m2, tf_mesh, static_cast<const fcl::TriangleP<S>&>(*other), tf_other,
                         request, result);

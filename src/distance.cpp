@@ -17,6 +17,7 @@
 #include "fcl_rs/collide.h"
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/distance_traversal.h"
+#include "fcl_rs/traversal/octree_traversal.h"
 #include "fcl_rs/validate.h"
 
 namespace fcl_rs {
@@ -133,22 +134,36 @@ S distanceRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
     const auto* other = mesh_first ? o2 : o1;
     const auto& tf_mesh = mesh_first ? tf1 : tf2;
     const auto& tf_other = mesh_first ? tf2 : tf1;
-    if (other->getObjectType() != fcl::OT_GEOM)
-      detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
-                              "an RS mesh measures distance to RS meshes and primitive shapes only");
-    if (other->getNodeType() == fcl::GEOM_TRIANGLE)
+#if FCL_HAVE_OCTOMAP
+    if (other->getNodeType() == fcl::GEOM_OCTREE)
     {
-      // The triangle as a one-triangle mesh, named in the result as FCL names a shape (o2, b2 = NONE).
-      const auto triangle_mesh = detail::triangleAsMesh(static_cast<const fcl::TriangleP<S>&>(*other));
-      res = meshMesh(mesh_first ? *m1 : *m2, tf_mesh, *triangle_mesh, tf_other, request, result);
-      if (result.o2 == triangle_mesh.get())
-      {
-        result.o2 = other;
-        result.b2 = fcl::DistanceResult<S>::NONE;
-      }
+      // fcl::detail::OcTreeBVHDistance and BVHOcTreeDistance with the RS traversal: the result names the octree
+      // first in either order, as FCL's does.
+      if (!request.isSatisfied(result))
+        distanceOcTreeMesh(static_cast<const fcl::OcTree<S>&>(*other), tf_other, mesh_first ? *m1 : *m2, tf_mesh,
+                           *solver, request, result);
+      res = result.min_distance;
     }
     else
-      res = meshShapeDispatch(mesh, tf_mesh, other, tf_other, solver, request, result);
+#endif
+    {
+      if (other->getObjectType() != fcl::OT_GEOM)
+        detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
+                                "an RS mesh measures distance to RS meshes, octrees and primitive shapes only");
+      if (other->getNodeType() == fcl::GEOM_TRIANGLE)
+      {
+        // The triangle as a one-triangle mesh, named in the result as FCL names a shape (o2, b2 = NONE).
+        const auto triangle_mesh = detail::triangleAsMesh(static_cast<const fcl::TriangleP<S>&>(*other));
+        res = meshMesh(mesh_first ? *m1 : *m2, tf_mesh, *triangle_mesh, tf_other, request, result);
+        if (result.o2 == triangle_mesh.get())
+        {
+          result.o2 = other;
+          result.b2 = fcl::DistanceResult<S>::NONE;
+        }
+      }
+      else
+        res = meshShapeDispatch(mesh, tf_mesh, other, tf_other, solver, request, result);
+    }
   }
   // Only when this query made the distance negative: a result shared by several queries (the broadphase
   // callbacks) may hold an earlier pair's negative distance.

@@ -122,6 +122,17 @@ struct MovedFrame
     offsets = o2.template lpNorm<1>() + T.template lpNorm<1>() + world_offsets;
     reach = box.reach();
   }
+  /// This frame made the frame of b2 with its origin moved to b2_origin (axes and slabs unchanged): what the
+  /// constructor computes, only the parts that depend on the origin (the octree's cells of a split, which share
+  /// their shape).
+  void moveOrigin(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const fcl::Vector3<S>& b2_origin,
+                  S world_offsets)
+  {
+    const fcl::Vector3<S> o2 = R * b2_origin;
+    origin = o2 + T;
+    centre.noalias() = axis * box.c + origin;
+    offsets = o2.template lpNorm<1>() + T.template lpNorm<1>() + world_offsets;
+  }
   fcl::Matrix3<S> axis;    ///< R A2
   fcl::Vector3<S> origin;  ///< R o2 + T
   Box<S> box;              ///< b2's principal box, in b2's frame

@@ -72,46 +72,54 @@ inline double segmentWeight(const Vec& a, const Vec& b, const Vec& x)
   return std::clamp(ab.dot(x - a) / len2, 0.0, 1.0);
 }
 
-/// The closest point of triangle t to x, with its barycentric weights w (Ericson's region walk). A degenerate
-/// triangle (no face region) falls back to its three edges.
+/// The closest point of triangle t to x, with its barycentric weights w: Ericson's region walk, then the three
+/// edges. The walk decides its region by signs of products that cancel for a nearly degenerate triangle (vc, vb,
+/// va), so it can pick the face of a sliver whose closest point is on an edge; its point is still a point of the
+/// triangle (weights clamped to [0, 1]), never nearer than the true one, and the edges' closest points (clamped
+/// projections, accurate to rounding for any shape) correct it. A triangle without area has only its edges.
 inline Vec closestOnTriangle(const Vec t[3], const Vec& x, double w[3])
 {
-  const Vec ab = t[1] - t[0], ac = t[2] - t[0], ap = x - t[0];
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  Vec point = t[0];
+  w[0] = 1, w[1] = w[2] = 0;
   const auto set = [&](double w0, double w1, double w2) {
     w[0] = w0, w[1] = w1, w[2] = w2;
-    return Vec(w0 * t[0] + w1 * t[1] + w2 * t[2]);
+    point = w0 * t[0] + w1 * t[1] + w2 * t[2];
   };
-  if (d1 <= 0 && d2 <= 0) return set(1, 0, 0);
-  const Vec bp = x - t[1];
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return set(0, 1, 0);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0)
-  {
-    const double v = d1 / (d1 - d3);
-    return set(1 - v, v, 0);
-  }
-  const Vec cp = x - t[2];
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return set(0, 0, 1);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0)
-  {
-    const double v = d2 / (d2 - d6);
-    return set(1 - v, 0, v);
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-  {
-    const double v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return set(0, 1 - v, v);
-  }
-  const double area = va + vb + vc;
-  if (area > 0 && std::isfinite(area)) return set(va / area, vb / area, vc / area);
-  // No face region (collinear vertices): the nearest of the three edges.
-  double best = std::numeric_limits<double>::infinity();
-  Vec point = t[0];
+  const auto walk = [&]() {
+    const Vec ab = t[1] - t[0], ac = t[2] - t[0], ap = x - t[0];
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0) return set(1, 0, 0);
+    const Vec bp = x - t[1];
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return set(0, 1, 0);
+    const double vc = d1 * d4 - d3 * d2;
+    // Each edge region's denominator is its edge's squared length (here d1 - d3 = |ab|^2): zero for an edge
+    // whose ends coincide, which has no region of its own (0 / 0); the walk goes on.
+    if (vc <= 0 && d1 >= 0 && d3 <= 0 && d1 - d3 > 0)
+    {
+      const double v = d1 / (d1 - d3);
+      return set(1 - v, v, 0);
+    }
+    const Vec cp = x - t[2];
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return set(0, 0, 1);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0 && d2 - d6 > 0)
+    {
+      const double v = d2 / (d2 - d6);
+      return set(1 - v, 0, v);
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0 && (d4 - d3) + (d5 - d6) > 0)
+    {
+      const double v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+      return set(0, 1 - v, v);
+    }
+    const double a = std::max(va, 0.0), b = std::max(vb, 0.0), c = std::max(vc, 0.0), area = a + b + c;
+    if (area > 0 && std::isfinite(area)) set(a / area, b / area, c / area);
+  };
+  walk();
+  double best = (point - x).squaredNorm();
   for (int i = 0; i < 3; ++i)
   {
     const int j = (i + 1) % 3;
@@ -724,10 +732,37 @@ private:
   fcl::Vector3<S> t1_, t2_, T_;
 };
 
+/// The contact of triangle p (the mesh's frame, the mesh at tf_mesh) and shape (at tf_shape), a pair leaf.meets,
+/// as FCL's solver gives it with the shape first (normal from the shape towards the triangle): position, normal
+/// and depth from FCL's solver where it finds the pair too; where it does not (a pair within the tolerance that
+/// FCL's GJK calls apart), the contact sits midway between the closest points with depth 0.
+template <typename Shape, typename Solver>
+void shapeTriangleContact(const TriangleShapeLeaf<Shape>& leaf, const std::array<fcl::Vector3<typename Shape::S>, 3>& p,
+                          const Shape& shape, const fcl::Transform3<typename Shape::S>& tf_shape,
+                          const fcl::Transform3<typename Shape::S>& tf_mesh, const Solver* nsolver,
+                          fcl::Vector3<typename Shape::S>& position, fcl::Vector3<typename Shape::S>& normal,
+                          typename Shape::S& depth)
+{
+  using S = typename Shape::S;
+  if (nsolver->shapeTriangleIntersect(shape, tf_shape, p[0], p[1], p[2], tf_mesh, &position, &depth, &normal)) return;
+  triangle_shape::Vec t[3];
+  const triangle_shape::Closest c = leaf.geometry().closest(leaf.moved(p.data(), t));
+  const Eigen::Isometry3d to_world = tf_shape.template cast<double>();
+  triangle_shape::Vec towards = c.on_shape - c.on_triangle;  // from the triangle towards the shape
+  if (!(towards.squaredNorm() > 0))
+  {
+    towards = (t[1] - t[0]).cross(t[2] - t[0]);
+    if (towards.dot(-c.on_triangle) < 0) towards = -towards;
+    if (!(towards.squaredNorm() > 0)) towards = -c.on_triangle;
+    if (!(towards.squaredNorm() > 0)) towards = triangle_shape::Vec::UnitX();
+  }
+  position = (to_world * ((c.on_triangle + c.on_shape) / 2)).template cast<S>();
+  normal = -(to_world.linear() * towards.normalized()).template cast<S>();
+  depth = 0;
+}
+
 /// FCL's meshShapeCollisionOrientedNodeLeafTesting for triangle primitive_id of model1 (mesh at tf1) against
-/// model2 (at tf2), with the verdict of leaf.meets. Contacts take position, normal and depth from FCL's solver
-/// where it finds the pair too; where it does not (a pair within the tolerance that FCL's GJK calls apart), the
-/// contact sits midway between the closest points with depth 0 and the normal from the triangle towards the shape.
+/// model2 (at tf2), with the verdict of leaf.meets and the contact of shapeTriangleContact.
 template <typename BV, typename Shape, typename Solver>
 void meshShapeLeafTesting(const TriangleShapeLeaf<Shape>& leaf, int primitive_id, const fcl::BVHModel<BV>* model1,
                           const Shape& model2, const fcl::Vector3<typename Shape::S>* vertices,
@@ -749,25 +784,8 @@ void meshShapeLeafTesting(const TriangleShapeLeaf<Shape>& leaf, int primitive_id
     {
       S depth;
       fcl::Vector3<S> normal, position;
-      if (nsolver->shapeTriangleIntersect(model2, tf2, p[0], p[1], p[2], tf1, &position, &depth, &normal))
-        normal = -normal;
-      else
-      {
-        triangle_shape::Vec t[3];
-        const triangle_shape::Closest c = leaf.geometry().closest(leaf.moved(p.data(), t));
-        const Eigen::Isometry3d to_world = tf2.template cast<double>();
-        triangle_shape::Vec towards = c.on_shape - c.on_triangle;
-        if (!(towards.squaredNorm() > 0))
-        {
-          towards = (t[1] - t[0]).cross(t[2] - t[0]);
-          if (towards.dot(-c.on_triangle) < 0) towards = -towards;
-          if (!(towards.squaredNorm() > 0)) towards = -c.on_triangle;
-          if (!(towards.squaredNorm() > 0)) towards = triangle_shape::Vec::UnitX();
-        }
-        position = (to_world * ((c.on_triangle + c.on_shape) / 2)).template cast<S>();
-        normal = (to_world.linear() * towards.normalized()).template cast<S>();
-        depth = 0;
-      }
+      shapeTriangleContact(leaf, p, model2, tf2, tf1, nsolver, position, normal, depth);
+      normal = -normal;  // FCL's mesh-shape contacts point from the mesh towards the shape
       result.addContact(fcl::Contact<S>(model1, &model2, primitive_id, fcl::Contact<S>::NONE, position, normal, depth));
     }
   }

@@ -34,7 +34,8 @@ bool splitsFirst(const Policy& policy, const typename Policy::Visit& v)
 ///   int children(const Visit&, bool first, Pair* out)
 ///                                              the pairs of the split node's children (of the first tree's node
 ///                                              when `first`) with the other node, in the order to visit them;
-///                                              at most kMaxChildren, at least one;
+///                                              at most kMaxChildren, at least one (depth first: none prunes
+///                                              the pair);
 /// and, depth first:
 ///   bool leafTest(const Visit&)                the test of two leaves; true when the query is done (stop rule);
 ///   bool nodeApart(const Visit&)               the node test of a pair with an inner node: true prunes the pair;
@@ -68,8 +69,11 @@ void descendDepthFirst(Policy& policy, typename Policy::Pair root, const Descent
       Pair children[Policy::kMaxChildren];
       const int n = policy.children(v, splitsFirst(policy, v), children);
       for (int i = n - 1; i > 0; --i) stack.push_back(children[i]);
-      pair = children[0];
-      continue;
+      if (n > 0)
+      {
+        pair = children[0];
+        continue;
+      }
     }
     if (stack.empty()) return;
     pair = stack.back();

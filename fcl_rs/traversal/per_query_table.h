@@ -80,6 +80,41 @@ private:
   Storage own_;
 };
 
+/// A vector a query fills, empty when made, in storage the thread's next queries reuse (as PerQueryTable's): a
+/// query that makes a few dozen entries of a few hundred bytes would otherwise spend a good part of its time
+/// allocating and faulting in a fresh array. A second one of the same type alive on the same thread gets storage
+/// of its own.
+template <typename T>
+class PerQueryVector
+{
+public:
+  PerQueryVector()
+  {
+    Storage& shared = threadStorage();
+    storage_ = shared.busy ? &own_ : &shared;
+    storage_->busy = true;
+    storage_->values.clear();
+  }
+  ~PerQueryVector() { storage_->busy = false; }
+  PerQueryVector(const PerQueryVector&) = delete;
+  PerQueryVector& operator=(const PerQueryVector&) = delete;
+  std::vector<T>& values() { return storage_->values; }
+
+private:
+  struct Storage
+  {
+    std::vector<T> values;
+    bool busy = false;
+  };
+  static Storage& threadStorage()
+  {
+    thread_local Storage storage;
+    return storage;
+  }
+  Storage* storage_;
+  Storage own_;
+};
+
 }  // namespace detail
 
 }  // namespace fcl_rs

@@ -1,0 +1,419 @@
+// RS mesh against fcl::OcTree: collision and distance on the descent engine, the octree's cells tested against
+// the RS tree in the mesh's frame (nothing of the mesh is copied or refitted per query). Queries answer what FCL's
+// octree-mesh traversal (fcl/narrowphase/detail/traversal/octree/octree_solver-inl.h) answers: the same cells
+// count (occupancy and free thresholds, cost-only unknown cells), cost sources and contacts are FCL's, and results
+// name the octree first whatever the argument order, as FCL's do. The leaf test is the mesh-box one of mesh-shape
+// queries (narrowphase/triangle_shape.h: exact, with the leaf tolerance) on the cell's box at the octree's pose,
+// where FCL runs GJK; FCL's solver gives only the contact details.
+#ifndef FCL_RS_OCTREE_TRAVERSAL_H
+#define FCL_RS_OCTREE_TRAVERSAL_H
+
+#include <fcl/config.h>
+#if FCL_HAVE_OCTOMAP
+
+#include <algorithm>
+#include <limits>
+#include <vector>
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/octree/octree.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/math/bv/utility.h>
+#include <fcl/narrowphase/collision_request.h>
+#include <fcl/narrowphase/collision_result.h>
+#include <fcl/narrowphase/distance_request.h>
+#include <fcl/narrowphase/distance_result.h>
+
+#include "fcl_rs/bv/rs.h"
+#include "fcl_rs/bv/rs_fit.h"
+#include "fcl_rs/bvh/node_links.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
+#include "fcl_rs/traversal/descent.h"
+#include "fcl_rs/traversal/per_query_table.h"
+
+namespace fcl_rs {
+namespace detail {
+
+/// An octree cell a traversal reached: its node (nullptr: a cell the octree does not store, visited only for the
+/// cost of unknown space, as FCL does), its box in the octree's frame, and that box as an RS, with its frame moved
+/// into the mesh's coordinates once for every mesh node it meets.
+template <typename S>
+struct OcTreeCell
+{
+  const typename fcl::OcTree<S>::OcTreeNode* node;
+  fcl::AABB<S> box;
+  RS<S> bv;
+  BoxedFrame<S> moved;
+};
+
+/// What the octree-mesh collision and distance descents share: the two geometries and poses, the solver, request
+/// and result, the cells reached so far, the FCL box of a cell at the octree's pose and a mesh triangle's vertices.
+template <typename S, typename Solver, typename Request, typename Result>
+class OcTreeMeshQuery
+{
+public:
+  using OcTreeNode = typename fcl::OcTree<S>::OcTreeNode;
+  using BVNode = fcl::BVNode<RS<S>>;
+  struct Pair
+  {
+    int b1;    ///< the mesh's node
+    int cell;  ///< index into cells()
+  };
+  struct Visit
+  {
+    int b1, cell;
+    const BVNode& n1;
+    bool leaf1, leaf2;
+  };
+  static constexpr int kMaxChildren = 8;
+
+  OcTreeMeshQuery(const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<S>& tf_mesh, const fcl::OcTree<S>& octree,
+                  const fcl::Transform3<S>& tf_octree, const Solver& solver, const Request& request, Result& result)
+    : solver_(solver), request_(request), result_(result), mesh_(mesh), tf_mesh_(tf_mesh), octree_(octree),
+      tf_octree_(tf_octree), cells_(cell_storage_.values()), node_boxes_(std::size_t(mesh.getNumBVs()))
+  {
+    fcl::relativeTransform(tf_mesh, tf_octree, R_, T_);
+    // The leaf tolerance's terms (TriangleShapeLeaf::boundOffsets) that do not depend on the cell: the poses'
+    // translations, the mesh's origin in the octree's frame and the mesh's extent (the root's points lie within
+    // |origin|_1 + 2 reach of the mesh's frame origin).
+    const RS<S>& root = mesh.getBV(0).bv;
+    const S mesh_reach = root.origin.template lpNorm<1>() + 2 * Box<S>(root).reach();
+    const fcl::Vector3<S> mesh_in_octree = tf_octree.inverse(Eigen::Isometry) * tf_mesh.translation();
+    leaf_offsets_ = tf_mesh.translation().template lpNorm<1>() + tf_octree.translation().template lpNorm<1>() +
+                    mesh_in_octree.template lpNorm<1>() + 6 * mesh_reach;
+  }
+
+  /// The root pair, or false for an empty octree (FCL's traversal would read a null root).
+  bool root(Pair& pair)
+  {
+    if (!octree_.getRoot()) return false;
+    const fcl::AABB<S> box = octree_.getRootBV();
+    const CellShape shape(*this, (box.max_ - box.min_) / 2);
+    pair = Pair{0, addCell(octree_.getRoot(), box, shape)};
+    return true;
+  }
+  Visit visit(const Pair& p) const
+  {
+    const BVNode& n1 = mesh_.getBV(p.b1);
+    const OcTreeNode* node = cells_[std::size_t(p.cell)].node;
+    return Visit{p.b1, p.cell, n1, isLeaf(n1), !node || !octree_.nodeHasChildren(node)};
+  }
+  S size1(const Visit& v) const { return v.n1.bv.size(); }
+  S size2(const Visit& v) const { return cells_[std::size_t(v.cell)].box.size(); }
+
+  const OcTreeCell<S>& cell(int i) const { return cells_[std::size_t(i)]; }
+  /// Whether the cell's box may meet the mesh's node (in the mesh's frame).
+  bool overlaps(const BVNode& n1, const OcTreeCell<S>& c) const
+  {
+    return overlap(c.moved, n1.bv, c.bv, OverlapTest::kBoxed);
+  }
+  /// Whether the cell's box may meet triangle p of the mesh's leaf: the triangle against the box's nine slabs
+  /// (detail::triangleOverlap). Tighter than overlaps() and far cheaper than the box-triangle test it filters.
+  bool mayTouch(const BVNode& leaf1, const std::array<fcl::Vector3<S>, 3>& p, const OcTreeCell<S>& c) const
+  {
+    return triangleOverlap(p.data(), leaf1.bv, c.moved, c.bv);
+  }
+  /// The cell as FCL's leaf tests see it: a box at the octree's pose.
+  void worldBox(const OcTreeCell<S>& c, fcl::Box<S>& box, fcl::Transform3<S>& box_tf) const
+  {
+    fcl::constructBox(c.box, tf_octree_, box, box_tf);
+  }
+  std::array<fcl::Vector3<S>, 3> triangle(const BVNode& leaf1) const
+  {
+    return triangleVertices(mesh_.vertices, mesh_.tri_indices[primitiveId(leaf1)]);
+  }
+  /// FCL's index of a cell in its results: the node's offset from the root node.
+  int cellId(const OcTreeCell<S>& c) const { return int(c.node - octree_.getRoot()); }
+
+  /// The children of the pair's mesh node (first) or cell, in FCL's order; a missing child of a cell is visited
+  /// as an unknown cell when `unknown_cells` (cost requested and the mesh not free), else skipped. With `prune`
+  /// (collision), a cell's children whose boxes miss the mesh node's principal box are left out before they are
+  /// made cells (boxesApart): most of a split's eight are, and a cell costs more than that test.
+  int children(const Visit& v, bool first, Pair* out, bool unknown_cells, bool prune)
+  {
+    if (first)
+    {
+      out[0] = Pair{leftChild(v.n1), v.cell};
+      out[1] = Pair{rightChild(v.n1), v.cell};
+      return 2;
+    }
+    // Copied: adding cells may move cells_.
+    const OcTreeNode* node = cells_[std::size_t(v.cell)].node;
+    const fcl::AABB<S> box = cells_[std::size_t(v.cell)].box;
+    const OcTreeNode* child_nodes[8];
+    fcl::AABB<S> child_boxes[8];
+    fcl::Vector3<S> half = fcl::Vector3<S>::Zero();
+    int n = 0;
+    for (unsigned int i = 0; i < 8; ++i)
+    {
+      const bool exists = octree_.nodeChildExists(node, i);
+      if (!exists && !unknown_cells) continue;
+      fcl::computeChildBV(box, i, child_boxes[n]);
+      if (prune && boxesApart(v.b1, child_boxes[n])) continue;
+      child_nodes[n] = exists ? octree_.getNodeChild(node, i) : nullptr;
+      half = half.cwiseMax((child_boxes[n].max_ - child_boxes[n].min_) / 2);
+      ++n;
+    }
+    if (n == 0) return 0;
+    // The children differ in size by rounding only: one shape, the largest, serves them all.
+    const CellShape shape(*this, half);
+    for (int i = 0; i < n; ++i) out[i] = Pair{v.b1, addCell(child_nodes[i], child_boxes[i], shape)};
+    return n;
+  }
+
+  const fcl::BVHModel<RS<S>>& mesh() const { return mesh_; }
+  const fcl::OcTree<S>& octree() const { return octree_; }
+  const fcl::Transform3<S>& meshPose() const { return tf_mesh_; }
+
+protected:
+  const Solver& solver_;
+  const Request& request_;
+  Result& result_;
+
+private:
+  /// A mesh node's principal box (which holds its RS: the box's centre and half extents along the stored frame)
+  /// as an axis-aligned box in the octree's frame, and the offsets and reach of its rounding bound.
+  struct NodeBox
+  {
+    fcl::Vector3<S> centre, half;
+    S offsets, reach;
+  };
+  const NodeBox& nodeBox(int b)
+  {
+    return node_boxes_.get(std::size_t(b), [&] {
+      const RS<S>& bv = mesh_.getBV(b).bv;
+      const Box<S> box(bv);
+      const fcl::Matrix3<S> A = bv.axes();
+      const fcl::Matrix3<S> M = R_.transpose() * A;  // the node's frame in the octree's: x = R^T (x_mesh - T)
+      return NodeBox{R_.transpose() * (bv.origin + A * box.c - T_), M.cwiseAbs() * box.h,
+                     bv.origin.template lpNorm<1>() + T_.template lpNorm<1>(), box.reach()};
+    });
+  }
+  /// Whether the cell box `box` misses mesh node b's box along an axis of the octree's frame by more than the
+  /// rounding bound of a pair test of the two (pairRoundingBound of the node's, the cell's and the leaf tolerance's
+  /// offsets, as addCell's, and of both reaches): then the RS test of the pair, and every leaf test below it,
+  /// would find them apart as well.
+  bool boxesApart(int b, const fcl::AABB<S>& box)
+  {
+    const NodeBox& node = nodeBox(b);
+    const fcl::Vector3<S> half = (box.max_ - box.min_) / 2;
+    const fcl::Vector3<S> centre = box.center();
+    const S h = half.maxCoeff();
+    const S tol = pairRoundingBound<S>(node.offsets + cellOffsets(centre, h), node.reach + h);
+    return (((centre - node.centre).cwiseAbs() - half - node.half).array() > tol).any();
+  }
+  /// The leaf tolerance's terms for a cell at centre c with half extent h and every cell inside it (addCell).
+  S cellOffsets(const fcl::Vector3<S>& c, S h) const
+  {
+    return leaf_offsets_ + 3 * (c.template lpNorm<1>() + 3 * h) + 6 * h;
+  }
+
+  /// A cell's box at the octree's origin, half extents `half`: its RS and that RS moved into the mesh's frame,
+  /// computed once for the cells of a split (addCell moves both to each cell's centre).
+  struct CellShape
+  {
+    CellShape(const OcTreeMeshQuery& query, const fcl::Vector3<S>& half)
+      : bv(symmetricShapeRS<S>(fcl::Transform3<S>::Identity(),
+                               [&](const fcl::Vector3<S>& dir) { return dir.cwiseAbs().dot(half); })),
+        moved(query.R_, query.T_, bv), reach(half.maxCoeff())
+    {
+    }
+    RS<S> bv;
+    BoxedFrame<S> moved;
+    S reach;
+  };
+
+  /// The cell of node with box `box` (shape's size or smaller), its RS the shape at the box's centre: the box's
+  /// points are centre + y with |y_i| <= half_i exactly, as the leaf test's box (fcl::constructBox: a box of
+  /// the same side at that centre). The moved frame's rounding offsets are widened by the leaf tolerance's terms
+  /// (as ShapeBound::coverLeaves) of every cell inside it: a leaf cell's centre c' and half extent h' give
+  /// |box pose's translation|_1 <= |t_octree|_1 + sqrt(3) |c'|_1 and |mesh in the box's frame|_1 <=
+  /// |mesh in the octree's frame|_1 + |c'|_1, with |c'|_1 <= |c|_1 + 3 h and h' <= h; so that no test of the
+  /// cell prunes a triangle the leaf test reports.
+  int addCell(const OcTreeNode* node, const fcl::AABB<S>& box, const CellShape& shape)
+  {
+    OcTreeCell<S> cell{node, box, shape.bv, shape.moved};
+    cell.bv.origin = box.center();
+    cell.moved.moveOrigin(R_, T_, cell.bv.origin, cellOffsets(cell.bv.origin, shape.reach));
+    cells_.push_back(cell);
+    return int(cells_.size() - 1);
+  }
+
+  const fcl::BVHModel<RS<S>>& mesh_;
+  const fcl::Transform3<S>& tf_mesh_;
+  const fcl::OcTree<S>& octree_;
+  const fcl::Transform3<S>& tf_octree_;
+  fcl::Matrix3<S> R_;  ///< the octree's frame in the mesh's: x_mesh = R x_octree + T
+  fcl::Vector3<S> T_;
+  S leaf_offsets_;  ///< the leaf tolerance's terms common to every cell
+  PerQueryVector<OcTreeCell<S>> cell_storage_;
+  std::vector<OcTreeCell<S>>& cells_;  ///< cell_storage_'s
+  PerQueryTable<NodeBox> node_boxes_;
+};
+
+/// The descent policy of octree-mesh collision (descendDepthFirst), FCL's OcTreeMeshIntersectRecurse: a pair is
+/// pruned when the cell or the mesh is free, or when either is uncertain and no cost is asked; an occupied leaf
+/// cell against an occupied mesh gives contacts (and cost sources), an uncertain one only cost sources, as does a
+/// cell the octree does not store.
+template <typename S, typename Solver>
+class OcTreeMeshCollisionDescent
+  : public OcTreeMeshQuery<S, Solver, fcl::CollisionRequest<S>, fcl::CollisionResult<S>>
+{
+public:
+  using Base = OcTreeMeshQuery<S, Solver, fcl::CollisionRequest<S>, fcl::CollisionResult<S>>;
+  using typename Base::Pair;
+  using typename Base::Visit;
+  using Base::Base;
+
+  bool nodeApart(const Visit& v) const
+  {
+    const OcTreeCell<S>& c = this->cell(v.cell);
+    if (c.node)
+    {
+      if (this->octree().isNodeFree(c.node) || this->mesh().isFree()) return true;
+      if ((this->octree().isNodeUncertain(c.node) || this->mesh().isUncertain()) && !this->request_.enable_cost)
+        return true;
+    }
+    return !this->overlaps(v.n1, c);
+  }
+  bool leafTest(const Visit& v)
+  {
+    const OcTreeCell<S>& c = this->cell(v.cell);
+    const fcl::OcTree<S>& octree = this->octree();
+    const fcl::BVHModel<RS<S>>& mesh = this->mesh();
+    if (!c.node)
+    {
+      if (touches(v, c, false)) addCost(v, c, octree.getOccupancyThres());
+      return false;
+    }
+    if (octree.isNodeOccupied(c.node) && mesh.isOccupied())
+    {
+      fcl::Contact<S> contact;
+      if (!touches(v, c, this->request_.enable_contact, &contact)) return false;
+      if (this->result_.numContacts() < this->request_.num_max_contacts) this->result_.addContact(contact);
+      if (this->request_.enable_cost) addCost(v, c, c.node->getOccupancy());
+      return this->request_.isSatisfied(this->result_);
+    }
+    if (!octree.isNodeFree(c.node) && !mesh.isFree() && this->request_.enable_cost && touches(v, c, false))
+      addCost(v, c, c.node->getOccupancy());
+    return false;
+  }
+  int children(const Visit& v, bool first, Pair* out)
+  {
+    return Base::children(v, first, out, this->request_.enable_cost && !this->mesh().isFree(), true);
+  }
+
+private:
+  /// The leaf test of mesh-shape queries (TriangleShapeLeaf::meets) of the cell's box at the octree's pose and
+  /// the leaf's triangle, behind the triangle filter; contact (when given) receives FCL's contact, with position,
+  /// normal and depth when `with_geometry` (shapeTriangleContact).
+  bool touches(const Visit& v, const OcTreeCell<S>& c, bool with_geometry, fcl::Contact<S>* contact = nullptr)
+  {
+    const auto p = this->triangle(v.n1);
+    if (!this->mayTouch(v.n1, p, c)) return false;
+    fcl::Box<S> box;
+    fcl::Transform3<S> box_tf;
+    this->worldBox(c, box, box_tf);
+    const TriangleShapeLeaf<fcl::Box<S>> leaf(box, this->meshPose(), box_tf);
+    if (!leaf.meets(p.data())) return false;
+    if (!contact) return true;
+    const int id = primitiveId(v.n1);
+    if (!with_geometry)
+    {
+      *contact = fcl::Contact<S>(&this->octree(), &this->mesh(), this->cellId(c), id);
+      return true;
+    }
+    fcl::Vector3<S> position, normal;
+    S depth;
+    shapeTriangleContact(leaf, p, box, box_tf, this->meshPose(), &this->solver_, position, normal, depth);
+    *contact = fcl::Contact<S>(&this->octree(), &this->mesh(), this->cellId(c), id, position, normal, depth);
+    return true;
+  }
+  /// FCL's cost source: the overlap of the cell's and the triangle's world boxes.
+  void addCost(const Visit& v, const OcTreeCell<S>& c, S occupancy)
+  {
+    fcl::Box<S> box;
+    fcl::Transform3<S> box_tf;
+    this->worldBox(c, box, box_tf);
+    fcl::AABB<S> cell_box, overlap_part;
+    fcl::computeBV(box, box_tf, cell_box);
+    const auto t = this->triangle(v.n1);
+    const fcl::Transform3<S>& tf = this->meshPose();
+    const fcl::AABB<S> triangle_box(tf * t[0], tf * t[1], tf * t[2]);
+    cell_box.overlap(triangle_box, overlap_part);
+    this->result_.addCostSource(fcl::CostSource<S>(overlap_part, occupancy * this->mesh().cost_density),
+                                this->request_.num_max_cost_sources);
+  }
+};
+
+/// The descent policy of octree-mesh distance (descendBestFirst): only occupied cells count (FCL's
+/// OcTreeMeshDistanceRecurse); a pair is bounded by the RS bound of the mesh's node and the cell's box, and a
+/// pair of leaves, when the descent reaches it, is measured by the mesh-shape leaf distance (exact; -1 where the
+/// leaf test meets, as for shapes).
+template <typename S, typename Solver>
+class OcTreeMeshDistanceDescent
+  : public OcTreeMeshQuery<S, Solver, fcl::DistanceRequest<S>, fcl::DistanceResult<S>>
+{
+public:
+  using Base = OcTreeMeshQuery<S, Solver, fcl::DistanceRequest<S>, fcl::DistanceResult<S>>;
+  using typename Base::Pair;
+  using typename Base::Visit;
+  using Base::Base;
+
+  S bound(const Pair& p) const
+  {
+    const OcTreeCell<S>& c = this->cell(p.cell);
+    if (!this->octree().isNodeOccupied(c.node)) return std::numeric_limits<S>::max();
+    return distanceLowerBound(c.moved, this->mesh().getBV(p.b1).bv, c.bv, this->result_.min_distance);
+  }
+  /// As FCL's distance traversal nodes, with the request's relative and absolute error.
+  bool canStop(S bound) const
+  {
+    return (bound + this->request_.abs_err) * (1 + this->request_.rel_err) >= this->result_.min_distance;
+  }
+  void leafTest(const Visit& v)
+  {
+    const OcTreeCell<S>& c = this->cell(v.cell);
+    if (!this->octree().isNodeOccupied(c.node)) return;
+    fcl::Box<S> box;
+    fcl::Transform3<S> box_tf;
+    this->worldBox(c, box, box_tf);
+    const TriangleShapeLeaf<fcl::Box<S>> leaf(box, this->meshPose(), box_tf);
+    fcl::Vector3<S> on_cell, on_triangle;
+    const S d = leaf.distance(this->triangle(v.n1).data(), on_triangle, on_cell);
+    this->result_.update(d, &this->octree(), &this->mesh(), this->cellId(c), primitiveId(v.n1), on_cell, on_triangle);
+  }
+  int children(const Visit& v, bool first, Pair* out) { return Base::children(v, first, out, false, false); }
+};
+
+}  // namespace detail
+
+/// Collision of the RS mesh at tf_mesh and the octree at tf_octree, as FCL's OcTreeMeshIntersect (exact cost; the
+/// approximate-cost path is the caller's). Contacts and cost sources name the octree first.
+template <typename S, typename Solver>
+void collideOcTreeMesh(const fcl::OcTree<S>& octree, const fcl::Transform3<S>& tf_octree,
+                       const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<S>& tf_mesh, const Solver& solver,
+                       const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+{
+  detail::OcTreeMeshCollisionDescent<S, Solver> descent(mesh, tf_mesh, octree, tf_octree, solver, request, result);
+  typename detail::OcTreeMeshCollisionDescent<S, Solver>::Pair root;
+  if (descent.root(root)) detail::descendDepthFirst(descent, root);
+}
+
+/// Distance of the RS mesh at tf_mesh and the octree at tf_octree, as FCL's OcTreeMeshDistance: the result names
+/// the octree first (o1, b1 and nearest_points[0]).
+template <typename S, typename Solver>
+void distanceOcTreeMesh(const fcl::OcTree<S>& octree, const fcl::Transform3<S>& tf_octree,
+                        const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<S>& tf_mesh, const Solver& solver,
+                        const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+{
+  using Descent = detail::OcTreeMeshDistanceDescent<S, Solver>;
+  Descent descent(mesh, tf_mesh, octree, tf_octree, solver, request, result);
+  typename Descent::Pair root;
+  if (descent.root(root)) detail::descendBestFirst<Descent, S>(descent, root);
+}
+
+}  // namespace fcl_rs
+
+#endif  // FCL_HAVE_OCTOMAP
+#endif
