@@ -30,7 +30,7 @@ python_packages=("${compare_packages[@]}" liburdfdom-dev libtinyxml2-dev libtbb-
                  python3-numpy)
 all_packages=("${python_packages[@]}" make libgtest-dev libbenchmark-dev libqhull-dev nlohmann-json3-dev
               gnuplot-nox clang libclang-rt-14-dev pkg-config python3-pytest python3-dask python3-distributed
-              libcgal-dev)
+              libcgal-dev f3d xvfb imagemagick)
 # Parts a new build directory leaves off for compare and python (scripts/compare.sh, scripts/install_python.sh).
 parts_off=(-DBUILD_TESTING=OFF -DFCL_RS_BUILD_TOOLS=OFF -DFCL_RS_BUILD_EXAMPLES=OFF
            -DFCL_RS_BUILD_EXPERIMENTS=OFF -DFCL_RS_BUILD_HULL=OFF)
