@@ -446,3 +446,52 @@ TYPED_TEST(TriangleShape, GrazingTrianglesAreReported)
 }
 
 }  // namespace
+
+/// Triangles with coinciding or nearly collinear vertices (cases fuzz_mesh_shape found, issue 27). The closest-point
+/// walk divided 0 by 0 for an edge whose ends coincide (a NaN distance: a touching triangle was not reported and
+/// the mesh's distance stayed at max()), and picked the face of a nearly collinear triangle whose closest point
+/// is on an edge (a distance 1e-3 relative too large).
+TYPED_TEST(TriangleShape, DegenerateTrianglesFromTheFuzzer)
+{
+  using S = TypeParam;
+  using V = fcl::Vector3<S>;
+  // The fuzzer's rotation (float); double gets it made orthonormal in double.
+  Eigen::Matrix3f rotation;
+  rotation << 0x1.6317p-1f, -0x1.5492b8p-2f, 0x1.47325cp-1f, 0x1.47325cp-1f, 0x1.6317p-1f, -0x1.5492b8p-2f,
+      -0x1.5492b8p-2f, 0x1.47325cp-1f, 0x1.6317p-1f;
+  const auto pose = [&](S t) {
+    fcl::Transform3<S> tf = fcl::Transform3<S>::Identity();
+    tf.linear() = std::is_same<S, float>::value
+                      ? rotation.cast<S>()
+                      : Eigen::Quaterniond(rotation.cast<double>()).normalized().toRotationMatrix().cast<S>();
+    tf.translation() = V(t, t, t);
+    return tf;
+  };
+  struct Case
+  {
+    S radius;
+    V p[3];
+    fcl::Transform3<S> tf1, tf2;
+    bool touching;
+  };
+  const S q = S(0x1p-12), e = S(0x1p-5);
+  const Case cases[] = {
+      // Two coinciding vertices, the edge to the third touching the unit sphere at (0, -1, 0).
+      {S(1), {V(-3, -1, 0), V(-3, -1, 0), V(1, -1, 0)}, fcl::Transform3<S>::Identity(), fcl::Transform3<S>::Identity(), true},
+      // Two coinciding vertices, 4.2e-4 from a sphere of radius 2^-22.
+      {S(0x1p-22), {V(-4 * q, -q, -q), V(-4 * q, -q, -q), V(-q, -q, -q)}, pose(S(-0x1p-6)), pose(S(-0x1p-6)), false},
+      // Nearly collinear in the shape's frame (collinear in the mesh's), 0.044 from a sphere of radius 2^-15.
+      {S(0x1p-15), {V(S(0x1.708p-2), -e, -e), V(S(0x1.708p-4), -e, -e), V(-e, -e, -e)}, pose(-e), pose(-e), false},
+  };
+  for (const Case& c : cases)
+  {
+    SCOPED_TRACE("radius " + std::to_string(double(c.radius)));
+    const fcl::Sphere<S> sphere(c.radius);
+    const S r = c.radius;
+    const Reference sphere_ref{[=](const ExactTriangle& a, const ExactPose& p) { return fcl_rs::test::exactSphere(a, p, r); },
+                               [=](const Vec& n) { return Vec(double(r) * n.normalized()); }, true};
+    Tally tally;
+    checkTriangle<S>(sphere, sphere_ref, c.p, c.tf1, c.tf2, c.touching, tally);
+    EXPECT_EQ(tally.meeting, c.touching ? 1 : 0);
+  }
+}

@@ -72,46 +72,54 @@ inline double segmentWeight(const Vec& a, const Vec& b, const Vec& x)
   return std::clamp(ab.dot(x - a) / len2, 0.0, 1.0);
 }
 
-/// The closest point of triangle t to x, with its barycentric weights w (Ericson's region walk). A degenerate
-/// triangle (no face region) falls back to its three edges.
+/// The closest point of triangle t to x, with its barycentric weights w: Ericson's region walk, then the three
+/// edges. The walk decides its region by signs of products that cancel for a nearly degenerate triangle (vc, vb,
+/// va), so it can pick the face of a sliver whose closest point is on an edge; its point is still a point of the
+/// triangle (weights clamped to [0, 1]), never nearer than the true one, and the edges' closest points (clamped
+/// projections, accurate to rounding for any shape) correct it. A triangle without area has only its edges.
 inline Vec closestOnTriangle(const Vec t[3], const Vec& x, double w[3])
 {
-  const Vec ab = t[1] - t[0], ac = t[2] - t[0], ap = x - t[0];
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  Vec point = t[0];
+  w[0] = 1, w[1] = w[2] = 0;
   const auto set = [&](double w0, double w1, double w2) {
     w[0] = w0, w[1] = w1, w[2] = w2;
-    return Vec(w0 * t[0] + w1 * t[1] + w2 * t[2]);
+    point = w0 * t[0] + w1 * t[1] + w2 * t[2];
   };
-  if (d1 <= 0 && d2 <= 0) return set(1, 0, 0);
-  const Vec bp = x - t[1];
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return set(0, 1, 0);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0)
-  {
-    const double v = d1 / (d1 - d3);
-    return set(1 - v, v, 0);
-  }
-  const Vec cp = x - t[2];
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return set(0, 0, 1);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0)
-  {
-    const double v = d2 / (d2 - d6);
-    return set(1 - v, 0, v);
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-  {
-    const double v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return set(0, 1 - v, v);
-  }
-  const double area = va + vb + vc;
-  if (area > 0 && std::isfinite(area)) return set(va / area, vb / area, vc / area);
-  // No face region (collinear vertices): the nearest of the three edges.
-  double best = std::numeric_limits<double>::infinity();
-  Vec point = t[0];
+  const auto walk = [&]() {
+    const Vec ab = t[1] - t[0], ac = t[2] - t[0], ap = x - t[0];
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0) return set(1, 0, 0);
+    const Vec bp = x - t[1];
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return set(0, 1, 0);
+    const double vc = d1 * d4 - d3 * d2;
+    // Each edge region's denominator is its edge's squared length (here d1 - d3 = |ab|^2): zero for an edge
+    // whose ends coincide, which has no region of its own (0 / 0); the walk goes on.
+    if (vc <= 0 && d1 >= 0 && d3 <= 0 && d1 - d3 > 0)
+    {
+      const double v = d1 / (d1 - d3);
+      return set(1 - v, v, 0);
+    }
+    const Vec cp = x - t[2];
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return set(0, 0, 1);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0 && d2 - d6 > 0)
+    {
+      const double v = d2 / (d2 - d6);
+      return set(1 - v, 0, v);
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0 && (d4 - d3) + (d5 - d6) > 0)
+    {
+      const double v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+      return set(0, 1 - v, v);
+    }
+    const double a = std::max(va, 0.0), b = std::max(vb, 0.0), c = std::max(vc, 0.0), area = a + b + c;
+    if (area > 0 && std::isfinite(area)) set(a / area, b / area, c / area);
+  };
+  walk();
+  double best = (point - x).squaredNorm();
   for (int i = 0; i < 3; ++i)
   {
     const int j = (i + 1) % 3;
