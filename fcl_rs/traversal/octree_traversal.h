@@ -12,6 +12,7 @@
 #if FCL_HAVE_OCTOMAP
 
 #include <algorithm>
+#include <deque>
 #include <limits>
 #include <vector>
 
@@ -88,8 +89,7 @@ public:
   {
     if (!octree_.getRoot()) return false;
     const fcl::AABB<S> box = octree_.getRootBV();
-    const CellShape shape(*this, (box.max_ - box.min_) / 2);
-    pair = Pair{0, addCell(octree_.getRoot(), box, shape)};
+    pair = Pair{0, addCell(octree_.getRoot(), box, cellShape((box.max_ - box.min_) / 2))};
     return true;
   }
   Visit visit(const Pair& p) const
@@ -156,7 +156,7 @@ public:
     }
     if (n == 0) return 0;
     // The children differ in size by rounding only: one shape, the largest, serves them all.
-    const CellShape shape(*this, half);
+    const CellShape& shape = cellShape(half);
     for (int i = 0; i < n; ++i) out[i] = Pair{v.b1, addCell(child_nodes[i], child_boxes[i], shape)};
     return n;
   }
@@ -215,13 +215,25 @@ private:
     CellShape(const OcTreeMeshQuery& query, const fcl::Vector3<S>& half)
       : bv(symmetricShapeRS<S>(fcl::Transform3<S>::Identity(),
                                [&](const fcl::Vector3<S>& dir) { return dir.cwiseAbs().dot(half); })),
-        moved(query.R_, query.T_, bv), reach(half.maxCoeff())
+        moved(query.R_, query.T_, bv), half(half), reach(half.maxCoeff())
     {
     }
     RS<S> bv;
     BoxedFrame<S> moved;
+    fcl::Vector3<S> half;
     S reach;
   };
+  /// A shape for cells of half extents `half`: one made before when it covers them and is at most a millionth
+  /// larger (the cells of one depth differ in size by rounding only; a larger shape only prunes a little less),
+  /// else a new one. A query meets a few shapes per depth of the octree.
+  const CellShape& cellShape(const fcl::Vector3<S>& half)
+  {
+    for (const CellShape& shape : shapes_)
+      if ((shape.half.array() >= half.array()).all() && (shape.half.array() <= half.array() * S(1 + 1e-6)).all())
+        return shape;
+    shapes_.emplace_back(*this, half);
+    return shapes_.back();
+  }
 
   /// The cell of node with box `box` (shape's size or smaller), its RS the shape at the box's centre: the box's
   /// points are centre + y with |y_i| <= half_i exactly, as the leaf test's box (fcl::constructBox: a box of
@@ -246,6 +258,7 @@ private:
   fcl::Matrix3<S> R_;  ///< the octree's frame in the mesh's: x_mesh = R x_octree + T
   fcl::Vector3<S> T_;
   S leaf_offsets_;  ///< the leaf tolerance's terms common to every cell
+  std::deque<CellShape> shapes_;  ///< cellShape's (a deque: references stay valid as it grows)
   PerQueryVector<OcTreeCell<S>> cell_storage_;
   std::vector<OcTreeCell<S>>& cells_;  ///< cell_storage_'s
   PerQueryTable<NodeBox> node_boxes_;
