@@ -40,7 +40,7 @@ test_targets() { cmake --build "$1" --target help | sed -nE 's/^(\.\.\. )?(test_
 # FCL, libccd and assimp come from Debian uninstrumented: the sanitizers check fcl_rs and the FCL templates it
 # instantiates on its own types (FCL's narrow phase for float, compiled into fcl_rs, stays uninstrumented too:
 # CMakeLists.txt). The fuzz targets share build-asan's instrumented library (a second sanitized build of the
-# library would cost CI ~15 min); fuzzer-no-link only adds coverage counters to the test executables.
+# library would cost CI ~15 min); FCL_RS_FUZZ adds libFuzzer's coverage counters to the core library's sources only.
 # alloc_dealloc_mismatch=0: FCL 0.7's getMotionBase (continuous collision, a header template) creates motions with
 # the global operator new and its shared_ptr deletes them through Eigen's class operator delete (free). Harmless
 # with glibc; fcl_rs keeps calling it so that its motions round exactly as fcl::continuousCollide's.
@@ -56,7 +56,7 @@ sanitized=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-
 stage "AddressSanitizer + UndefinedBehaviorSanitizer: every test (build-asan)"
 asan="$root/build-asan"
 cmake -S "$root" -B "$asan" $(generator "$asan") -DCMAKE_CXX_COMPILER=clang++ "${sanitized[@]}" -DFCL_RS_FUZZ=ON \
-  -DFCL_RS_SANITIZE=fuzzer-no-link,address,undefined > /dev/null
+  -DFCL_RS_SANITIZE=address,undefined > /dev/null
 mapfile -t tests < <(test_targets "$asan")
 # fuzz_api (fuzz/fuzz_api.cpp) is not among them yet: it still stops on FCL's own faults (docs/robustness.md).
 fuzz_targets=(fuzz_mesh_load fuzz_rs fuzz_triangle_intersection fuzz_mesh_shape)

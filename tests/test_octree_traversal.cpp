@@ -120,18 +120,43 @@ TriangleShapeLeaf<fcl::Box<S>> cellLeaf(const LeafCell<S>& cell, const fcl::Tran
   return TriangleShapeLeaf<fcl::Box<S>>(box, tf, box_tf);
 }
 
-/// Whether the boxes' bounding spheres are apart by more than `margin`: the brute forces skip only such pairs (with
-/// a margin above the leaf test's tolerance, which is large for float and the octree's large unknown cells).
-template <typename S>
-bool spheresApart(const fcl::Box<S>& box, const fcl::Transform3<S>& box_tf, const std::array<fcl::Vector3<S>, 3>& p,
-                  const fcl::Transform3<S>& tf, double margin)
+/// A triangle's bounding ball in the world frame, computed once per pose for the brute forces below.
+struct Ball
 {
-  const Eigen::Vector3d a = (tf * p[0]).template cast<double>(), b = (tf * p[1]).template cast<double>(),
-                        c = (tf * p[2]).template cast<double>();
-  const Eigen::Vector3d centre = (a + b + c) / 3;
-  const double r_triangle = std::max({(a - centre).norm(), (b - centre).norm(), (c - centre).norm()});
+  Eigen::Vector3d centre;
+  double radius;
+};
+
+template <typename S>
+std::vector<Ball> triangleBalls(const TriangleMesh<S>& mesh, const fcl::Transform3<S>& tf)
+{
+  std::vector<Ball> balls;
+  for (const auto& tri : mesh.triangles)
+  {
+    const Eigen::Vector3d a = (tf * mesh.vertices[tri[0]]).template cast<double>(),
+                          b = (tf * mesh.vertices[tri[1]]).template cast<double>(),
+                          c = (tf * mesh.vertices[tri[2]]).template cast<double>();
+    const Eigen::Vector3d centre = (a + b + c) / 3;
+    balls.push_back({centre, std::max({(a - centre).norm(), (b - centre).norm(), (c - centre).norm()})});
+  }
+  return balls;
+}
+
+/// Whether the box's and the triangle's bounding spheres are apart by more than `margin`: the brute forces skip only
+/// such pairs (with a margin above the leaf test's tolerance, which is large for float and the octree's large
+/// unknown cells).
+template <typename S>
+bool spheresApart(const fcl::Box<S>& box, const fcl::Transform3<S>& box_tf, const Ball& triangle, double margin)
+{
   const double r_box = box.side.template cast<double>().norm() / 2;
-  return (box_tf.translation().template cast<double>() - centre).norm() > r_triangle + r_box + margin;
+  return (box_tf.translation().template cast<double>() - triangle.centre).norm() > triangle.radius + r_box + margin;
+}
+
+template <typename S>
+std::array<fcl::Vector3<S>, 3> trianglePoints(const TriangleMesh<S>& mesh, std::size_t t)
+{
+  const auto& tri = mesh.triangles[t];
+  return {mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]};
 }
 
 /// Brute force: every occupied leaf cell against every triangle (an occupied mesh), with the leaf test.
@@ -139,6 +164,7 @@ template <typename S>
 std::set<ContactKey> bruteForceContacts(const Scene<S>& scene, const std::vector<LeafCell<S>>& leaves,
                                         const fcl::Transform3<S>& tf)
 {
+  const std::vector<Ball> balls = triangleBalls(scene.body, tf);
   std::set<ContactKey> keys;
   for (const LeafCell<S>& cell : leaves)
   {
@@ -146,13 +172,11 @@ std::set<ContactKey> bruteForceContacts(const Scene<S>& scene, const std::vector
     fcl::Box<S> box;
     fcl::Transform3<S> box_tf;
     const auto leaf = cellLeaf(cell, scene.tf_octree, tf, box, box_tf);
-    for (int t = 0; t < int(scene.body.triangles.size()); ++t)
+    for (std::size_t t = 0; t < balls.size(); ++t)
     {
-      const auto& tri = scene.body.triangles[std::size_t(t)];
-      const std::array<fcl::Vector3<S>, 3> p = {scene.body.vertices[tri[0]], scene.body.vertices[tri[1]],
-                                                scene.body.vertices[tri[2]]};
-      if (spheresApart(box, box_tf, p, tf, 1e-3 + 2 * double(leaf.tolerance(p.data())))) continue;
-      if (leaf.meets(p.data())) keys.emplace(int(cell.node - scene.octree->getRoot()), t);
+      const auto p = trianglePoints(scene.body, t);
+      if (spheresApart(box, box_tf, balls[t], 1e-3 + 2 * double(leaf.tolerance(p.data())))) continue;
+      if (leaf.meets(p.data())) keys.emplace(int(cell.node - scene.octree->getRoot()), int(t));
     }
   }
   return keys;
@@ -162,6 +186,7 @@ std::set<ContactKey> bruteForceContacts(const Scene<S>& scene, const std::vector
 template <typename S>
 S bruteForceDistance(const Scene<S>& scene, const std::vector<LeafCell<S>>& leaves, const fcl::Transform3<S>& tf)
 {
+  const std::vector<Ball> balls = triangleBalls(scene.body, tf);
   S best = std::numeric_limits<S>::max();
   for (const LeafCell<S>& cell : leaves)
   {
@@ -169,11 +194,10 @@ S bruteForceDistance(const Scene<S>& scene, const std::vector<LeafCell<S>>& leav
     fcl::Box<S> box;
     fcl::Transform3<S> box_tf;
     const auto leaf = cellLeaf(cell, scene.tf_octree, tf, box, box_tf);
-    for (const auto& tri : scene.body.triangles)
+    for (std::size_t t = 0; t < balls.size(); ++t)
     {
-      const std::array<fcl::Vector3<S>, 3> p = {scene.body.vertices[tri[0]], scene.body.vertices[tri[1]],
-                                                scene.body.vertices[tri[2]]};
-      if (best < std::numeric_limits<S>::max() && spheresApart(box, box_tf, p, tf, double(best))) continue;
+      if (best < std::numeric_limits<S>::max() && spheresApart(box, box_tf, balls[t], double(best))) continue;
+      const auto p = trianglePoints(scene.body, t);
       fcl::Vector3<S> on_mesh, on_shape;
       best = std::min(best, leaf.distance(p.data(), on_mesh, on_shape));
     }
@@ -330,6 +354,7 @@ template <typename S>
 BruteForceCost bruteForceCost(const Scene<S>& scene, const std::vector<LeafCell<S>>& leaves,
                               const fcl::Transform3<S>& tf)
 {
+  const std::vector<Ball> balls = triangleBalls(scene.body, tf);
   BruteForceCost out;
   const fcl::OcTree<S>& octree = *scene.octree;
   for (const LeafCell<S>& cell : leaves)
@@ -341,11 +366,10 @@ BruteForceCost bruteForceCost(const Scene<S>& scene, const std::vector<LeafCell<
     const auto leaf = cellLeaf(cell, scene.tf_octree, tf, box, box_tf);
     fcl::AABB<S> cell_box;
     fcl::computeBV(box, box_tf, cell_box);
-    for (const auto& tri : scene.body.triangles)
+    for (std::size_t i = 0; i < balls.size(); ++i)
     {
-      const std::array<fcl::Vector3<S>, 3> p = {scene.body.vertices[tri[0]], scene.body.vertices[tri[1]],
-                                                scene.body.vertices[tri[2]]};
-      if (spheresApart(box, box_tf, p, tf, 1e-3 + 2 * double(leaf.tolerance(p.data())))) continue;
+      const auto p = trianglePoints(scene.body, i);
+      if (spheresApart(box, box_tf, balls[i], 1e-3 + 2 * double(leaf.tolerance(p.data())))) continue;
       triangle_shape::Vec t[3];
       const double d = leaf.geometry().closest(leaf.moved(p.data(), t)).distance;
       const bool meets = leaf.meets(p.data());
