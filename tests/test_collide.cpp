@@ -1121,7 +1121,10 @@ TYPED_TEST(CollideDropIn, TrianglePMatchesTheExactOracle)
       else
         fcl_rs::collide<S>(&tri, tf_tri, sphere.rs.get(), tf_mesh, req, res);
       // Touching within rounding may go either way; clear cases must agree.
-      if (exact_distance > 1e-4 || exact_hit) EXPECT_EQ(res.isCollision(), exact_hit) << "distance " << exact_distance;
+      if (exact_distance > 1e-4 || exact_hit)
+      {
+        EXPECT_EQ(res.isCollision(), exact_hit) << "distance " << exact_distance;
+      }
       for (std::size_t c = 0; c < res.numContacts(); ++c)
       {
         EXPECT_EQ(res.getContact(c).o1, sphere.rs.get());
