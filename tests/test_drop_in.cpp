@@ -106,7 +106,10 @@ struct Cell
   bool agrees = true;          // fcl_rs's answers are FCL's (or the oracle's where FCL is wrong) on every pose
   std::string disagreement;    // the first one, for the failure message
   std::string rs_error;        // fcl_rs's exception message, where it throws
+  std::string colliding;       // distance cells: fcl_rs's distance of the crossing placements ("." if none)
 };
+
+constexpr const char* kCollidingRow = "distance while colliding";
 
 /// The table's symbol for a cell (README.md explains them).
 char symbol(const Cell& c)
@@ -543,6 +546,12 @@ Cell staticCell(const Scene<S>& scene, const Partner<S>& partner, Query query, b
       if (call_fcl && cell.fcl_answers && !distancesAgree(rs, theirs, partner)) disagree(cell, where + values);
       continue;
     }
+    if (query == Query::kDistance)
+    {
+      std::ostringstream value;
+      value << rs;
+      cell.colliding = cell.colliding.empty() || cell.colliding == value.str() ? value.str() : "varies";
+    }
     if (!call_fcl)
     {
       // Mesh-sphere signed distance (FCL undefined here): fcl_rs's own convention, minus the deepest penetration.
@@ -724,6 +733,11 @@ std::vector<std::string> tableLines(const std::vector<Row>& all_rows,
     std::string line = "| " + rowName(row) + " |";
     for (const std::string& e : entries.at(rowName(row))) line += " `" + e + "` |";
     lines.push_back(line);
+    if (row.query != Query::kDistance) continue;
+    // fcl_rs's (and, where it answers, FCL's: checked) convention for the distance of a colliding pair.
+    line = std::string("| ") + kCollidingRow + " |";
+    for (const std::string& e : entries.at(kCollidingRow)) line += " `" + e + "` |";
+    lines.push_back(line);
   }
   return lines;
 }
@@ -761,7 +775,7 @@ TYPED_TEST(DropInMatrix, EveryCellFCLAnswersFclRsAnswersAlike)
       if (continuous(row.query) && !motions.count(row.motion)) motions[row.motion] = sweeps(scene, partner, row.motion, rng);
     for (const Row& row : all_rows)
     {
-      std::string entry;
+      std::string entry, colliding;
       for (const bool mesh_first : {true, false})
       {
         const Cell cell = continuous(row.query) ? continuousCell(scene, partner, row, mesh_first, motions[row.motion])
@@ -774,6 +788,7 @@ TYPED_TEST(DropInMatrix, EveryCellFCLAnswersFclRsAnswersAlike)
         refused += c == 'r';
         fcl_wrong += cell.fcl_answers && cell.fcl_wrong;
         entry += std::string(entry.empty() ? "" : " ") + c;
+        colliding += std::string(colliding.empty() ? "" : " ") + (cell.colliding.empty() ? "." : cell.colliding);
         const std::string name = rowName(row) + ", " + kPartnerNames[partner.index] +
                                  (mesh_first ? ", mesh first" : ", partner first") + ", " + scalarName<S>();
         std::cout << "[matrix] " << name << ": " << c << (cell.fcl_answers ? " FCL answers" : " FCL does not answer")
@@ -784,17 +799,22 @@ TYPED_TEST(DropInMatrix, EveryCellFCLAnswersFclRsAnswersAlike)
         EXPECT_NE(c, 'X') << name;
       }
       entries[rowName(row)].push_back(entry);
+      if (row.query == Query::kDistance) entries[kCollidingRow].push_back(colliding);
     }
   }
-  std::cout << "[matrix] " << scalarName<S>() << ": " << cells << " cells; FCL answers " << fcl_cells
-            << " (wrongly on some tested pose or motion in " << fcl_wrong << "), fcl_rs answers " << rs_cells
-            << "; fcl_rs gives FCL's answer (or the reference's where FCL is wrong) in " << agreed
-            << ", refuses a query FCL answers wrongly in " << refused << "\n";
+  const std::string counts = scalarName<S>() + ": " + std::to_string(cells) + " cells, FCL answers " +
+                             std::to_string(fcl_cells) + " (" + std::to_string(fcl_wrong) +
+                             " wrongly on a tested motion), fcl_rs answers " + std::to_string(rs_cells) +
+                             ", gives FCL's answer (or the reference's where FCL is wrong) in " + std::to_string(agreed) +
+                             ", refuses " + std::to_string(refused) + " that FCL answers wrongly";
+  std::cout << "[matrix] " << counts << "\n";
   EXPECT_EQ(agreed + refused, fcl_cells);
   EXPECT_EQ(cells, kNumPartners * 2 * int(all_rows.size()));
 
-  // README.md shows the table: every line printed here is there verbatim (float has no linear or screw rows).
-  const std::vector<std::string> lines = tableLines(all_rows, entries);
+  // README.md shows the table and the counts: every line printed here is there verbatim (float has no linear or
+  // screw rows).
+  std::vector<std::string> lines = tableLines(all_rows, entries);
+  lines.push_back(counts);
   const std::string readme = readFile(std::string(FCL_RS_SOURCE_DIR) + "/README.md");
   for (const std::string& line : lines)
   {
