@@ -388,6 +388,15 @@ struct Environment<S>::Impl
     return near;
   }
 
+  /// The gap between a link's ball and the obstacle's own box (the ball's centre moved into the obstacle's
+  /// frame): tighter than the balls' for slabs such as tables and for an octree's occupied cells.
+  static S boxGap(const WorldSphere<S>& ball, const Obstacle& o)
+  {
+    const fcl::Vector3<S> c = o.pose.inverse(Eigen::Isometry) * ball.centre;
+    const fcl::Vector3<S> outside = (o.box.min_ - c).cwiseMax(c - o.box.max_).cwiseMax(S(0));
+    return outside.norm() - ball.reach * S(1 + 1e-5);
+  }
+
   BodyPair selfPair(const LinkPair& p) const
   {
     return {self.linkNames()[p.first], self.linkNames()[p.second], true};
@@ -420,7 +429,7 @@ struct Environment<S>::Impl
       for (int link : geometric_links)
       {
         for (int o : near)
-          if (!spheresApart(spheres[link], obstacles[o].sphere) &&
+          if (!spheresApart(spheres[link], obstacles[o].sphere) && boxGap(spheres[link], obstacles[o]) <= 0 &&
               bodiesCollide(links[link], poses[link], obstacles[o].body, obstacles[o].pose))
           {
             result.colliding = true;
@@ -492,10 +501,7 @@ struct Environment<S>::Impl
     const WorldSphere<S>& ball = s.spheres[p.link];
     if (p.other_link >= 0) return std::max(S(0), sphereGap(ball, s.spheres[p.other_link]));
     const Obstacle& o = obstacles[p.obstacle];
-    const fcl::Vector3<S> c = o.pose.inverse(Eigen::Isometry) * ball.centre;
-    const fcl::Vector3<S> outside = (o.box.min_ - c).cwiseMax(c - o.box.max_).cwiseMax(S(0));
-    const S box_gap = outside.norm() - ball.reach * S(1 + 1e-5);
-    return std::max({S(0), sphereGap(ball, o.sphere), box_gap});
+    return std::max({S(0), sphereGap(ball, o.sphere), boxGap(ball, o)});
   }
 
   /// The pair's lower bound at s: the balls' gap until the exact distance is asked for.
