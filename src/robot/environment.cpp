@@ -442,8 +442,9 @@ struct Environment<S>::Impl
     return result;
   }
 
-  /// The smallest distance over the self pairs and link x obstacle pairs; a pair whose balls are farther apart
-  /// than the best so far cannot lower it (fixed order, so the result is deterministic).
+  /// The smallest distance over the self pairs and link x obstacle pairs; a pair whose balls (or link ball and
+  /// obstacle box) are farther apart than the best so far cannot lower it (fixed order, so the result is
+  /// deterministic).
   void minimumDistance(const std::vector<Tf<S>>& poses, const std::vector<WorldSphere<S>>& spheres,
                        EnvironmentResult<S>& result) const
   {
@@ -466,7 +467,8 @@ struct Environment<S>::Impl
       for (std::size_t o = 0; o < obstacles.size(); ++o)
         if (!obstacles[o].body.elements.empty())
           consider(links[link], poses[link], obstacles[o].body, obstacles[o].pose,
-                   sphereGap(spheres[link], obstacles[o].sphere), obstaclePair(link, int(o)));
+                   std::max(sphereGap(spheres[link], obstacles[o].sphere), boxGap(spheres[link], obstacles[o])),
+                   obstaclePair(link, int(o)));
     result.minimum_distance = best;
   }
 
