@@ -126,7 +126,8 @@ int main(int argc, char** argv)
         const fcl::Vector3<S> side = randomRotation(rng).col(0) * 2.5, lateral = randomPose(rng, 1.5).translation();
         b0.translation() += lateral + side;
         b1.translation() += lateral - side;
-        set.push_back({fcl::getMotionBase(a0, a1, type), fcl::getMotionBase(b0, b1, type)});
+        // Not fcl::getMotionBase: its linear motion's reference point is uninitialized in FCL 0.7.
+        set.push_back({fcl_rs::detail::motionBetween(a0, a1, type), fcl_rs::detail::motionBetween(b0, b1, type)});
       }
       const fcl::CollisionGeometry<S>* rs2 = mesh_pair ? static_cast<const fcl::CollisionGeometry<S>*>(ellipsoid.get()) : &box;
       const fcl::CollisionGeometry<S>* rss2 = mesh_pair ? static_cast<const fcl::CollisionGeometry<S>*>(ellipsoid_rss.get()) : &box;

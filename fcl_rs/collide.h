@@ -14,12 +14,11 @@
 namespace fcl_rs {
 
 /// Same overloads and meaning as fcl::collide. Pairs with a BVHModel<RS<S>> (mesh-mesh, and mesh
-/// against Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder, Convex, Plane, Halfspace or TriangleP in either
-/// order) are handled here; every other pair is passed to fcl::collide unchanged.
+/// against Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder, Convex, Plane, Halfspace, TriangleP or an fcl::OcTree
+/// in either order) are handled here; every other pair is passed to fcl::collide unchanged.
 /// FCL's dispatch table cannot reach RS (it is hidden inside libfcl.so), so calling fcl::collide
 /// on an RS model would silently report "no collision"; this function never does. An RS mesh
-/// against anything it cannot handle (another BV type's mesh, an octree, a point
-/// cloud) throws std::invalid_argument naming the pair. So does bad input, for every pair, before any test
+/// against anything it cannot handle (another BV type's mesh) throws std::invalid_argument naming the pair. So does bad input, for every pair, before any test
 /// (fcl_rs/validate.h): a pose that is not a rigid transform (NaN or infinite entries, a rotation that is not
 /// orthonormal, a reflection), naming tf1, tf2 or o1->getTransform(), o2->getTransform(); an invalid request
 /// field (num_max_contacts 0, gjk_tolerance, cached_gjk_guess), naming the field.

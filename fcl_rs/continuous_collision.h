@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
+#include <fcl/math/motion/interp_motion.h>
 #include <fcl/narrowphase/continuous_collision.h>
 
 #include "fcl_rs/collide.h"
@@ -65,6 +67,20 @@ FCL_RS_DECLARE_CONSERVATIVE_ADVANCEMENT(double)
 #undef FCL_RS_DECLARE_CONSERVATIVE_ADVANCEMENT
 }  // namespace detail
 
+namespace detail {
+/// fcl::getMotionBase, except that a linear motion gets its reference point (the object's origin): FCL 0.7's
+/// InterpMotion(tf1, tf2), which getMotionBase builds, leaves it uninitialized, so the path depended on stale memory.
+template <typename S>
+fcl::MotionBasePtr<S> motionBetween(const fcl::Transform3<S>& beg, const fcl::Transform3<S>& end,
+                                    fcl::CCDMotionType type)
+{
+  if (type == fcl::CCDM_LINEAR)
+    return std::make_shared<fcl::InterpMotion<S>>(beg.linear(), beg.translation(), end.linear(), end.translation(),
+                                                  fcl::Vector3<S>::Zero());
+  return fcl::getMotionBase(beg, end, type);
+}
+}  // namespace detail
+
 template <typename S>
 S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1_beg,
                     const fcl::Transform3<S>& tf1_end, const fcl::CollisionGeometry<S>* o2,
@@ -81,8 +97,8 @@ S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S
     throw std::invalid_argument(
         "fcl_rs::continuousCollide: FCL 0.7 cannot make a spline motion from two transforms (SplineMotion(tf1, "
         "tf2) leaves its control points uninitialized); pass fcl::SplineMotion objects built from control points");
-  const fcl::MotionBasePtr<S> motion1 = fcl::getMotionBase(tf1_beg, tf1_end, request.ccd_motion_type);
-  const fcl::MotionBasePtr<S> motion2 = fcl::getMotionBase(tf2_beg, tf2_end, request.ccd_motion_type);
+  const fcl::MotionBasePtr<S> motion1 = detail::motionBetween(tf1_beg, tf1_end, request.ccd_motion_type);
+  const fcl::MotionBasePtr<S> motion2 = detail::motionBetween(tf2_beg, tf2_end, request.ccd_motion_type);
   return fcl_rs::continuousCollide(o1, motion1.get(), o2, motion2.get(), request, result);
 }
 

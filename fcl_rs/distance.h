@@ -12,8 +12,8 @@
 namespace fcl_rs {
 
 /// Same overloads and meaning as fcl::distance. Pairs with a BVHModel<RS<S>> (mesh-mesh, and mesh
-/// against Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder, Convex or TriangleP in either order) are handled
-/// here (TriangleP beyond FCL, which has no mesh-TriangleP entry);
+/// against Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder, Convex, TriangleP or an fcl::OcTree in either order)
+/// are handled here (TriangleP beyond FCL, which has no mesh-TriangleP entry);
 /// every other pair is passed to fcl::distance unchanged, except that any pair with a Plane or a Halfspace
 /// throws std::invalid_argument: FCL's own distance for them calls a null support function (a crash).
 ///
@@ -26,7 +26,7 @@ namespace fcl_rs {
 /// are honoured: the result is within (1 + rel_err) times and abs_err of the true distance.
 /// fcl::distance cannot reach RS (its dispatch table is hidden inside libfcl.so) and would return
 /// max(); this function never does. An RS mesh against anything it cannot handle (another BV type's
-/// mesh, an octree, a point cloud) throws std::invalid_argument naming the pair. So does bad
+/// mesh) throws std::invalid_argument naming the pair. So does bad
 /// input, for every pair, before any test (fcl_rs/validate.h): a pose that is not a rigid transform, naming the
 /// argument; an invalid request field (rel_err, abs_err, distance_tolerance), naming the field.
 template <typename S>

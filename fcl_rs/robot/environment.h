@@ -6,10 +6,18 @@
 #include <string>
 #include <vector>
 
+#include <fcl/config.h>
 #include <fcl/geometry/collision_geometry.h>
 
 #include "fcl_rs/mesh/triangle_mesh.h"
 #include "fcl_rs/robot/self_collision.h"
+
+#if FCL_HAVE_OCTOMAP
+namespace fcl {
+template <typename S>
+class OcTree;
+}  // namespace fcl
+#endif
 
 namespace fcl_rs {
 
@@ -71,10 +79,11 @@ struct MotionResult
   int distance_queries = 0;        ///< exact link-pair distances computed
 };
 
-/// A robot (its SelfCollision checker, built here: link trees once) and named obstacles: FCL shapes placed in
-/// the robot's root frame, and triangle meshes built as trees of the checker's BV type (so that every BV type
-/// answers the same questions with its own trees). Octrees are not accepted yet (fcl_rs::collide has no RS
-/// mesh-octree path).
+/// A robot (its SelfCollision checker, built here: link trees once) and named obstacles placed in the robot's
+/// root frame: FCL shapes, triangle meshes built as trees of the checker's BV type (so that every BV type
+/// answers the same questions with its own trees) and octomaps (fcl::OcTree, when FCL has octomap support),
+/// which every link element meets through fcl_rs::collide / fcl_rs::distance (RS meshes on fcl_rs's octree
+/// traversal, other meshes and shapes on FCL's).
 ///
 /// query answers self-collision and collision with the obstacles at one configuration; checkMotion answers it
 /// for every configuration of a straight joint-space segment, without sampling at a resolution: Schwarzer,
@@ -86,7 +95,8 @@ struct MotionResult
 /// exact distance when that is not enough.
 ///
 /// Queries and motion checks read the environment only (their state is per call): many threads may share one
-/// (see fcl_rs/robot/batch_environment.h). Adding, moving and removing obstacles must not overlap queries.
+/// (see fcl_rs/robot/batch_environment.h). Adding, moving, removing and refreshing obstacles (and changing an
+/// octomap the environment holds) must not overlap queries.
 /// BV types: RS, OBBRSS, OBB, RSS (KDOP18 is refused: its trees are refitted in place); distances and motion
 /// checks need a distance query, which FCL lacks for OBB (std::invalid_argument).
 template <typename S>
@@ -105,14 +115,25 @@ public:
   const Kinematics<S>& kinematics() const;
   BVType bvType() const;
 
-  /// Adds an FCL shape (box, sphere, cylinder, capsule, cone, ellipsoid, convex, halfspace, plane) at `pose`
-  /// in the root frame. Throws std::invalid_argument when the name is empty or taken, the geometry is null or
-  /// not a shape, or the pose is not a finite rigid transform.
+  /// Adds an FCL shape (box, sphere, cylinder, capsule, cone, ellipsoid or convex) at `pose` in the root frame.
+  /// Throws std::invalid_argument when the name is empty or taken, the geometry is null or not one of these
+  /// shapes, or the pose is not a finite rigid transform.
   void addShape(const std::string& name, std::shared_ptr<fcl::CollisionGeometry<S>> shape,
                 const fcl::Transform3<S>& pose);
   /// Adds a mesh (its own coordinates), built once as a tree of the environment's BV type, at `pose`. Throws
   /// std::invalid_argument as addShape, and for an invalid mesh (validateMesh).
   void addMesh(const std::string& name, const TriangleMesh<S>& mesh, const fcl::Transform3<S>& pose);
+#if FCL_HAVE_OCTOMAP
+  /// Adds an octomap at `pose`; its cells count as FCL's traversals count them (occupied leaves under occupied
+  /// nodes: fcl::OcTree::isNodeOccupied, the octree's threshold). The environment shares the octree and reads
+  /// its occupied cells here, once, for its culling volumes (the octree's own box is the map's whole root
+  /// cube): after the map's cells or thresholds change, call refreshOcTree before the next query. A map without
+  /// occupied cells collides with nothing and adds no distance. Throws std::invalid_argument as addShape.
+  void addOcTree(const std::string& name, std::shared_ptr<fcl::OcTree<S>> octree, const fcl::Transform3<S>& pose);
+  /// Reads a named octree's occupied cells again (see addOcTree). Throws std::invalid_argument for an unknown
+  /// name or an obstacle that is not an octree.
+  void refreshOcTree(const std::string& name);
+#endif
   /// Moves a named obstacle; throws std::invalid_argument for an unknown name or a bad pose.
   void setPose(const std::string& name, const fcl::Transform3<S>& pose);
   /// Removes a named obstacle; throws std::invalid_argument for an unknown name.

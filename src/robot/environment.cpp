@@ -6,12 +6,16 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <fcl/math/bv/AABB.h>
 #include <fcl/math/bv/OBB.h>
 #include <fcl/math/bv/OBBRSS.h>
 #include <fcl/math/bv/RSS.h>
+#if FCL_HAVE_OCTOMAP
+#include <fcl/geometry/octree/octree.h>
+#endif
 
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/collide.h"
@@ -111,9 +115,9 @@ S bodiesDistance(const Body<S>& a, const Tf<S>& ta, const Body<S>& b, const Tf<S
       bound = d;
       if (points)
       {
-        // A shape given before a mesh is swapped behind it (fcl_rs::distance, as FCL).
-        const bool swapped = ea.geometry->getObjectType() == fcl::OT_GEOM &&
-                             eb.geometry->getObjectType() == fcl::OT_BVH;
+        // fcl_rs::distance, as FCL, names a mesh before a shape given first, and an octree first.
+        const fcl::OBJECT_TYPE type_a = ea.geometry->getObjectType(), type_b = eb.geometry->getObjectType();
+        const bool swapped = type_b == fcl::OT_OCTREE || (type_a == fcl::OT_GEOM && type_b == fcl::OT_BVH);
         points[0] = result.nearest_points[swapped ? 1 : 0];
         points[1] = result.nearest_points[swapped ? 0 : 1];
       }
@@ -143,6 +147,39 @@ std::shared_ptr<fcl::CollisionGeometry<S>> buildTree(BVType bv, const TriangleMe
                               "OBB or RSS");
 }
 
+#if FCL_HAVE_OCTOMAP
+/// Grows `box` by the octree's cells under `node` (whose cell is `cell`) that FCL's traversals, and fcl_rs's,
+/// test: leaves reached through occupied nodes and occupied themselves (isNodeOccupied, the octree's threshold;
+/// distance descends by this rule, collision without cost also skips uncertain nodes: fewer cells).
+template <typename S>
+void addOccupiedCells(const fcl::OcTree<S>& octree, const typename fcl::OcTree<S>::OcTreeNode* node,
+                      const fcl::AABB<S>& cell, std::optional<fcl::AABB<S>>& box)
+{
+  if (!octree.isNodeOccupied(node)) return;
+  if (!octree.nodeHasChildren(node))
+  {
+    box = box ? *box + cell : cell;
+    return;
+  }
+  for (unsigned int i = 0; i < 8; ++i)
+    if (octree.nodeChildExists(node, i))
+    {
+      fcl::AABB<S> child;
+      fcl::computeChildBV(cell, i, child);  // as the traversals compute it, to the bit
+      addOccupiedCells(octree, octree.getNodeChild(node, i), child, box);
+    }
+}
+
+/// The box of the octree's occupied cells in its own frame (see addOccupiedCells); none for a map without any.
+template <typename S>
+std::optional<fcl::AABB<S>> occupiedCells(const fcl::OcTree<S>& octree)
+{
+  std::optional<fcl::AABB<S>> box;
+  if (octree.getRoot()) addOccupiedCells(octree, octree.getRoot(), octree.getRootBV(), box);
+  return box;
+}
+#endif
+
 }  // namespace
 
 /// The relative error motion checks allow their distances: a lower bound within this factor of the distance
@@ -156,10 +193,11 @@ struct Environment<S>::Impl
   {
     std::string name;
     std::shared_ptr<fcl::CollisionGeometry<S>> geometry;
-    Body<S> body;
+    Body<S> body;  ///< no element for an octree without occupied cells (nothing to touch or measure)
     Tf<S> pose;
     WorldSphere<S> sphere;  ///< at pose
-    fcl::AABB<S> box;       ///< the geometry's box in its own frame (tighter than the ball for slabs such as tables)
+    fcl::AABB<S> box;       ///< the geometry's box in its own frame (tighter than the ball for slabs such as tables;
+                            ///< an octree's: its occupied cells')
   };
 
   /// A pair a motion check certifies: a self pair (other_link >= 0) or a link and an obstacle.
@@ -276,17 +314,44 @@ struct Environment<S>::Impl
 
   void add(const std::string& name, std::shared_ptr<fcl::CollisionGeometry<S>> geometry, const Tf<S>& pose)
   {
-    geometry->computeLocalAABB();
     Obstacle o;
     o.name = name;
     o.geometry = std::move(geometry);
-    o.body.elements.push_back({o.geometry.get(), Tf<S>::Identity()});
-    o.body.center = o.geometry->aabb_center;
-    o.body.radius = o.geometry->aabb_radius * S(1 + 1e-6);
-    o.box = o.geometry->aabb_local;
     o.pose = pose;
-    o.sphere = place(o.body, pose);
+    fit(o);
     obstacles.push_back(std::move(o));
+  }
+
+  /// The obstacle's element and culling volumes, from what of its geometry can touch a link: all of it, or an
+  /// octree's occupied cells (its own box is the whole root cube of the map).
+  static void fit(Obstacle& o)
+  {
+    o.body = Body<S>();
+    o.box = fcl::AABB<S>();
+#if FCL_HAVE_OCTOMAP
+    if (o.geometry->getNodeType() == fcl::GEOM_OCTREE)
+    {
+      const std::optional<fcl::AABB<S>> cells = occupiedCells(static_cast<const fcl::OcTree<S>&>(*o.geometry));
+      if (!cells)
+      {
+        o.sphere = WorldSphere<S>();
+        return;
+      }
+      o.box = *cells;
+      o.body.center = cells->center();
+      o.body.radius = (cells->max_ - o.body.center).norm();
+    }
+    else
+#endif
+    {
+      o.geometry->computeLocalAABB();
+      o.box = o.geometry->aabb_local;
+      o.body.center = o.geometry->aabb_center;
+      o.body.radius = o.geometry->aabb_radius;
+    }
+    o.body.radius *= S(1 + 1e-6);
+    o.body.elements.push_back({o.geometry.get(), Tf<S>::Identity()});
+    o.sphere = place(o.body, o.pose);
   }
 
   void checkNewName(const std::string& name) const
@@ -315,11 +380,21 @@ struct Environment<S>::Impl
     std::vector<int> near;
     for (std::size_t i = 0; i < obstacles.size(); ++i)
     {
+      if (obstacles[i].body.elements.empty()) continue;
       const WorldSphere<S>& s = obstacles[i].sphere;
       const fcl::Vector3<S> outside = (lo - s.centre).cwiseMax(s.centre - hi).cwiseMax(S(0));
       if (outside.squaredNorm() <= s.reach * s.reach) near.push_back(int(i));
     }
     return near;
+  }
+
+  /// The gap between a link's ball and the obstacle's own box (the ball's centre moved into the obstacle's
+  /// frame): tighter than the balls' for slabs such as tables and for an octree's occupied cells.
+  static S boxGap(const WorldSphere<S>& ball, const Obstacle& o)
+  {
+    const fcl::Vector3<S> c = o.pose.inverse(Eigen::Isometry) * ball.centre;
+    const fcl::Vector3<S> outside = (o.box.min_ - c).cwiseMax(c - o.box.max_).cwiseMax(S(0));
+    return outside.norm() - ball.reach * S(1 + 1e-5);
   }
 
   BodyPair selfPair(const LinkPair& p) const
@@ -354,7 +429,7 @@ struct Environment<S>::Impl
       for (int link : geometric_links)
       {
         for (int o : near)
-          if (!spheresApart(spheres[link], obstacles[o].sphere) &&
+          if (!spheresApart(spheres[link], obstacles[o].sphere) && boxGap(spheres[link], obstacles[o]) <= 0 &&
               bodiesCollide(links[link], poses[link], obstacles[o].body, obstacles[o].pose))
           {
             result.colliding = true;
@@ -367,8 +442,9 @@ struct Environment<S>::Impl
     return result;
   }
 
-  /// The smallest distance over the self pairs and link x obstacle pairs; a pair whose balls are farther apart
-  /// than the best so far cannot lower it (fixed order, so the result is deterministic).
+  /// The smallest distance over the self pairs and link x obstacle pairs; a pair whose balls (or link ball and
+  /// obstacle box) are farther apart than the best so far cannot lower it (fixed order, so the result is
+  /// deterministic).
   void minimumDistance(const std::vector<Tf<S>>& poses, const std::vector<WorldSphere<S>>& spheres,
                        EnvironmentResult<S>& result) const
   {
@@ -389,8 +465,10 @@ struct Environment<S>::Impl
                sphereGap(spheres[p.first], spheres[p.second]), selfPair(p));
     for (int link : geometric_links)
       for (std::size_t o = 0; o < obstacles.size(); ++o)
-        consider(links[link], poses[link], obstacles[o].body, obstacles[o].pose,
-                 sphereGap(spheres[link], obstacles[o].sphere), obstaclePair(link, int(o)));
+        if (!obstacles[o].body.elements.empty())
+          consider(links[link], poses[link], obstacles[o].body, obstacles[o].pose,
+                   std::max(sphereGap(spheres[link], obstacles[o].sphere), boxGap(spheres[link], obstacles[o])),
+                   obstaclePair(link, int(o)));
     result.minimum_distance = best;
   }
 
@@ -401,7 +479,8 @@ struct Environment<S>::Impl
     std::vector<MotionPair> pairs;
     for (const LinkPair& p : self.pairs()) pairs.push_back({p.first, p.second, -1});
     for (int link : geometric_links)
-      for (std::size_t o = 0; o < obstacles.size(); ++o) pairs.push_back({link, -1, int(o)});
+      for (std::size_t o = 0; o < obstacles.size(); ++o)
+        if (!obstacles[o].body.elements.empty()) pairs.push_back({link, -1, int(o)});
     return pairs;
   }
 
@@ -424,10 +503,7 @@ struct Environment<S>::Impl
     const WorldSphere<S>& ball = s.spheres[p.link];
     if (p.other_link >= 0) return std::max(S(0), sphereGap(ball, s.spheres[p.other_link]));
     const Obstacle& o = obstacles[p.obstacle];
-    const fcl::Vector3<S> c = o.pose.inverse(Eigen::Isometry) * ball.centre;
-    const fcl::Vector3<S> outside = (o.box.min_ - c).cwiseMax(c - o.box.max_).cwiseMax(S(0));
-    const S box_gap = outside.norm() - ball.reach * S(1 + 1e-5);
-    return std::max({S(0), sphereGap(ball, o.sphere), box_gap});
+    return std::max({S(0), sphereGap(ball, o.sphere), boxGap(ball, o)});
   }
 
   /// The pair's lower bound at s: the balls' gap until the exact distance is asked for.
@@ -655,6 +731,27 @@ void Environment<S>::addMesh(const std::string& name, const TriangleMesh<S>& mes
   requireRigidTransform(pose, kApi, ("the pose of obstacle '" + name + "'").c_str());
   impl_->add(name, buildTree<S>(impl_->bv, mesh), pose);
 }
+
+#if FCL_HAVE_OCTOMAP
+template <typename S>
+void Environment<S>::addOcTree(const std::string& name, std::shared_ptr<fcl::OcTree<S>> octree,
+                               const fcl::Transform3<S>& pose)
+{
+  impl_->checkNewName(name);
+  if (!octree) throw std::invalid_argument("fcl_rs::Environment::addOcTree: obstacle '" + name + "' has no octree");
+  requireRigidTransform(pose, kApi, ("the pose of obstacle '" + name + "'").c_str());
+  impl_->add(name, std::move(octree), pose);
+}
+
+template <typename S>
+void Environment<S>::refreshOcTree(const std::string& name)
+{
+  auto& o = impl_->obstacles[impl_->require(name, "refreshOcTree")];
+  if (o.geometry->getNodeType() != fcl::GEOM_OCTREE)
+    throw std::invalid_argument("fcl_rs::Environment::refreshOcTree: obstacle '" + name + "' is not an octree");
+  Impl::fit(o);
+}
+#endif
 
 template <typename S>
 void Environment<S>::setPose(const std::string& name, const fcl::Transform3<S>& pose)
