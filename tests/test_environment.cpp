@@ -424,14 +424,11 @@ TYPED_TEST(EnvironmentTest, PathsReportTheSegmentAndParameter)
 }
 
 #ifdef FCL_RS_TEST_BATCH
-TYPED_TEST(EnvironmentTest, BatchesEqualSingleCalls)
+/// Batches of queries (pairs and minimum distance) and of motions over n seeded Panda configurations (segments of
+/// up to 0.3 rad per joint from them) on two threads equal the single calls.
+template <typename S>
+void expectBatchesEqualSingleCalls(const Environment<S>& env, std::mt19937_64& rng, int n)
 {
-  using S = TypeParam;
-  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
-  auto rng = test::seededRng("BatchesEqualSingleCalls/" + test::scalarName<S>());
-  Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
-  scene(env, rng);
-  const int n = test::kSanitized ? 2 : 4;
   Configurations<S> qs(n, 8), ends(n, 8);
   std::uniform_real_distribution<double> step(-0.3, 0.3);
   for (int i = 0; i < n; ++i)
@@ -458,6 +455,19 @@ TYPED_TEST(EnvironmentTest, BatchesEqualSingleCalls)
     EXPECT_EQ(motions.parameter[i], motion.parameter);
     EXPECT_EQ(motions.free_until[i], motion.free_until);
   }
+}
+
+TYPED_TEST(EnvironmentTest, BatchesEqualSingleCalls)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  auto rng = test::seededRng("BatchesEqualSingleCalls/" + test::scalarName<S>());
+  Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
+  scene(env, rng);
+  const int n = test::kSanitized ? 2 : 4;
+  expectBatchesEqualSingleCalls(env, rng, n);
+  Configurations<S> qs(n, 8);
+  qs.rowwise() = env.kinematics().lower().transpose();
   expectInvalid([&] { motionBatch(env, qs, Configurations<S>(n - 1, 8)); }, "ends");
 }
 #endif
@@ -851,33 +861,7 @@ TYPED_TEST(EnvironmentTest, OcTreeBatchesEqualSingleCalls)
   Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
   const fcl::Transform3<S> pose = scanPose<S>(rng);
   env.addOcTree("map", scanMap<S>(), pose);
-  const int n = test::kSanitized ? 2 : 4;
-  Configurations<S> qs(n, 8), ends(n, 8);
-  std::uniform_real_distribution<double> step(-0.3, 0.3);
-  for (int i = 0; i < n; ++i)
-  {
-    qs.row(i) = env.kinematics().randomConfiguration(rng).transpose();
-    for (int v = 0; v < 8; ++v)
-      ends(i, v) = std::clamp(S(qs(i, v) + step(rng)), env.kinematics().lower()[v], env.kinematics().upper()[v]);
-  }
-  EnvironmentRequest request;
-  request.colliding_pairs = request.minimum_distance = true;
-  BatchOptions options;
-  options.num_threads = 2;
-  const EnvironmentBatchResult<S> batch = environmentBatch(env, qs, request, options);
-  const MotionBatchResult<S> motions = motionBatch(env, qs, ends, MotionRequest<S>{}, options);
-  for (int i = 0; i < n; ++i)
-  {
-    SCOPED_TRACE(::testing::Message() << "row " << i);
-    const EnvironmentResult<S> one = env.query(qs.row(i).transpose(), request);
-    EXPECT_EQ(batch.colliding[i], one.colliding);
-    EXPECT_EQ(batch.pairs[i], one.pairs);
-    EXPECT_EQ(batch.minimum_distance[i], one.minimum_distance);
-    const MotionResult<S> motion = env.checkMotion(qs.row(i).transpose(), ends.row(i).transpose());
-    EXPECT_EQ(motions.colliding[i], motion.colliding);
-    EXPECT_EQ(motions.parameter[i], motion.parameter);
-    EXPECT_EQ(motions.free_until[i], motion.free_until);
-  }
+  expectBatchesEqualSingleCalls(env, rng, test::kSanitized ? 2 : 4);
 }
 #endif
 #endif  // FCL_HAVE_OCTOMAP

@@ -195,6 +195,7 @@ struct Environment<S>::Impl
     std::shared_ptr<fcl::CollisionGeometry<S>> geometry;
     Body<S> body;  ///< no element for an octree without occupied cells (nothing to touch or measure)
     Tf<S> pose;
+    Tf<S> from_world;       ///< pose's inverse, set with it: every query's box gaps read it
     WorldSphere<S> sphere;  ///< at pose
     fcl::AABB<S> box;       ///< the geometry's box in its own frame (tighter than the ball for slabs such as tables;
                             ///< an octree's: its occupied cells')
@@ -318,6 +319,7 @@ struct Environment<S>::Impl
     o.name = name;
     o.geometry = std::move(geometry);
     o.pose = pose;
+    o.from_world = pose.inverse(Eigen::Isometry);
     fit(o);
     obstacles.push_back(std::move(o));
   }
@@ -392,7 +394,7 @@ struct Environment<S>::Impl
   /// frame): tighter than the balls' for slabs such as tables and for an octree's occupied cells.
   static S boxGap(const WorldSphere<S>& ball, const Obstacle& o)
   {
-    const fcl::Vector3<S> c = o.pose.inverse(Eigen::Isometry) * ball.centre;
+    const fcl::Vector3<S> c = o.from_world * ball.centre;
     const fcl::Vector3<S> outside = (o.box.min_ - c).cwiseMax(c - o.box.max_).cwiseMax(S(0));
     return outside.norm() - ball.reach * S(1 + 1e-5);
   }
@@ -760,6 +762,7 @@ void Environment<S>::setPose(const std::string& name, const fcl::Transform3<S>& 
   requireRigidTransform(pose, kApi, ("the pose of obstacle '" + name + "'").c_str());
   auto& o = impl_->obstacles[i];
   o.pose = pose;
+  o.from_world = pose.inverse(Eigen::Isometry);
   o.sphere = place(o.body, pose);
 }
 
