@@ -12,9 +12,10 @@
 namespace fcl_rs {
 
 /// Same overloads and meaning as fcl::distance. Pairs with a BVHModel<RS<S>> (mesh-mesh, and mesh
-/// against Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder, Convex, TriangleP or an fcl::OcTree in either order)
-/// are handled here (TriangleP beyond FCL, which has no mesh-TriangleP entry);
-/// every other pair is passed to fcl::distance unchanged, except that any pair with a Plane or a Halfspace
+/// against Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder, Convex, Plane, Halfspace, TriangleP or an fcl::OcTree
+/// in either order) are handled here (Plane, Halfspace and TriangleP beyond FCL, whose mesh-plane and
+/// mesh-halfspace distance crashes and which has no mesh-TriangleP entry);
+/// every other pair is passed to fcl::distance unchanged, except that a pair of shapes with a Plane or a Halfspace
 /// throws std::invalid_argument: FCL's own distance for them calls a null support function (a crash).
 ///
 /// As in FCL: a shape given first is swapped behind the mesh, so result.o1, b1 and nearest_points[0]

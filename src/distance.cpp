@@ -7,7 +7,6 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
-#include <type_traits>
 
 #include <fcl/narrowphase/distance.h>
 #include <fcl/narrowphase/detail/distance_func_matrix.h>
@@ -48,16 +47,7 @@ S meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3
   const auto& model = static_cast<const fcl::BVHModel<RS<S>>&>(*mesh);
   return detail::withShape(
       *shape,
-      [&](const auto& geometry) -> S {
-        using Shape = std::decay_t<decltype(geometry)>;
-        if constexpr (std::is_same_v<Shape, fcl::Plane<S>> || std::is_same_v<Shape, fcl::Halfspace<S>>)
-          // FCL's own mesh-plane/halfspace distance hands the unbounded shape to GJK, which has no support function
-          // for it: fcl::distance on an RSS or OBBRSS mesh crashes there (null call in libccd).
-          detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(),
-                                  "FCL has no triangle-plane/halfspace distance");
-        else
-          return meshShape(model, tf_mesh, geometry, tf_shape, solver, request, result);
-      },
+      [&](const auto& geometry) -> S { return meshShape(model, tf_mesh, geometry, tf_shape, solver, request, result); },
       [&]() -> S {
         detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(),
                                 "FCL has no mesh distance for this shape");

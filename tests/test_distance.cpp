@@ -28,6 +28,7 @@
 
 #include "fcl_rs/fcl_rs.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
+#include "fcl_rs/traversal/shape_switch.h"
 #include "test_util.h"
 
 namespace {
@@ -415,7 +416,7 @@ TYPED_TEST(DistanceMeshMesh, TraversalBoundOfTriangleVolumesStaysBelowTheirDista
   EXPECT_GT(tight, separated / 2) << tight << " of " << separated << " separated pairs bounded within half";
 }
 
-/// Every bounded shape FCL measures against a mesh (its mesh-plane/halfspace distance crashes in libccd).
+/// Every bounded shape FCL measures against a mesh (planes and halfspaces: PlaneAndHalfspace below).
 template <typename S>
 std::vector<std::pair<std::string, std::shared_ptr<fcl::CollisionGeometry<S>>>> shapes()
 {
@@ -452,16 +453,9 @@ S bruteForceLeafDistance(const TriangleMesh<S>& mesh, const fcl::Transform3<S>& 
     }
     return best;
   };
-  switch (shape.getNodeType())
-  {
-    case fcl::GEOM_BOX: return over(static_cast<const fcl::Box<S>&>(shape));
-    case fcl::GEOM_SPHERE: return over(static_cast<const fcl::Sphere<S>&>(shape));
-    case fcl::GEOM_ELLIPSOID: return over(static_cast<const fcl::Ellipsoid<S>&>(shape));
-    case fcl::GEOM_CAPSULE: return over(static_cast<const fcl::Capsule<S>&>(shape));
-    case fcl::GEOM_CONE: return over(static_cast<const fcl::Cone<S>&>(shape));
-    case fcl::GEOM_CYLINDER: return over(static_cast<const fcl::Cylinder<S>&>(shape));
-    default: throw std::invalid_argument("bruteForceLeafDistance: unexpected shape");
-  }
+  return fcl_rs::detail::withShape(shape, over, []() -> S {
+    throw std::invalid_argument("bruteForceLeafDistance: not a primitive shape");
+  });
 }
 
 /// Both argument orders give the leaves' minimum over the whole mesh exactly (the traversal prunes nothing it
@@ -651,6 +645,190 @@ TYPED_TEST(DistanceMeshShape, QuickStartTetrahedronIsThreeQuartersFromTheBox)
   }
 }
 
+/// A plane or halfspace in the world frame (|n| = 1), its heights n . x - d taken in long double of world vertices
+/// computed in long double: the closed form the traversal is judged against, independent of the leaf and the bound.
+template <typename S>
+struct WorldPlane
+{
+  Eigen::Matrix<long double, 3, 1> n;
+  long double d;
+
+  WorldPlane(const fcl::Vector3<S>& n_local, S d_local, const fcl::Transform3<S>& tf)
+    : n(tf.linear().template cast<long double>() * n_local.template cast<long double>()),
+      d(d_local + n.dot(tf.translation().template cast<long double>()))
+  {
+  }
+  long double height(const fcl::Vector3<S>& world) const { return n.dot(world.template cast<long double>()) - d; }
+  /// The heights of the mesh's vertices at tf.
+  std::vector<long double> heights(const TriangleMesh<S>& m, const fcl::Transform3<S>& tf) const
+  {
+    const Eigen::Matrix<long double, 3, 3> R = tf.linear().template cast<long double>();
+    const Eigen::Matrix<long double, 3, 1> t = tf.translation().template cast<long double>();
+    std::vector<long double> h;
+    for (const auto& v : m.vertices) h.push_back(n.dot(R * v.template cast<long double>() + t) - d);
+    return h;
+  }
+};
+
+/// The closed forms: a halfspace's distance is the lowest vertex height (minus the penetration depth when negative);
+/// a plane's the smallest |height| when every vertex is on one side. Plane penetration as FCL's triangle-plane test
+/// measures it: per straddling triangle the smaller of its deepest heights on the two sides, the largest of those.
+template <typename Shape, typename S>
+long double closedFormDistance(const TriangleMesh<S>& m, const std::vector<long double>& h)
+{
+  const long double lo = *std::min_element(h.begin(), h.end()), hi = *std::max_element(h.begin(), h.end());
+  if (std::is_same<Shape, fcl::Halfspace<S>>::value) return lo;
+  if (lo > 0 || hi < 0) return std::min(std::abs(lo), std::abs(hi));
+  long double deepest = 0;
+  for (const auto& t : m.triangles)
+  {
+    long double above = 0, below = 0;
+    for (int k = 0; k < 3; ++k) above = std::max(above, h[t[k]]), below = std::max(below, -h[t[k]]);
+    deepest = std::max(deepest, std::min(above, below));
+  }
+  return -deepest;
+}
+
+template <typename S>
+class DistancePlaneAndHalfspace : public ::testing::Test
+{
+protected:
+  const Mesh<S> torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.25)));
+
+  /// Both orders and both solvers at (tf1, the shape at tf2): the traversal's distance is the leaves' minimum over
+  /// all triangles exactly, negative (-1) exactly when fcl_rs::collide reports the pair; a positive one is the
+  /// closed form's, with nearest points on the mesh and on the plane that realise it; the signed distance is the
+  /// closed form's. Returns the closed form.
+  template <typename Shape>
+  long double check(const Shape& shape, const fcl::Transform3<S>& tf1, const fcl::Transform3<S>& tf2,
+                    fcl::GJKSolverType solver)
+  {
+    const WorldPlane<S> plane(shape.n, shape.d, tf2);
+    const long double expected = closedFormDistance<Shape>(torus.tri, plane.heights(torus.tri, tf1));
+    const S scale = 4, tol = distanceTolerance<S>() * scale;
+    fcl::CollisionRequest<S> collision_request;
+    collision_request.gjk_solver_type = solver;
+    fcl::CollisionResult<S> contact;
+    fcl_rs::collide<S>(torus.rs.get(), tf1, &shape, tf2, collision_request, contact);
+    const S brute = bruteForceLeafDistance(torus.tri, tf1, shape, tf2);
+    for (const bool mesh_first : {true, false})
+    {
+      SCOPED_TRACE(mesh_first ? "mesh first" : "shape first");
+      fcl::DistanceRequest<S> request(true);
+      request.gjk_solver_type = solver;
+      fcl::DistanceResult<S> r;
+      if (mesh_first)
+        fcl_rs::distance<S>(torus.rs.get(), tf1, &shape, tf2, request, r);
+      else
+        fcl_rs::distance<S>(&shape, tf2, torus.rs.get(), tf1, request, r);
+      EXPECT_EQ(r.o1, torus.rs.get());
+      EXPECT_EQ(r.o2, &shape);
+      EXPECT_EQ(r.min_distance, brute);
+      EXPECT_EQ(r.min_distance < 0, contact.isCollision()) << "distance " << r.min_distance;
+      if (r.min_distance < 0)
+      {
+        EXPECT_EQ(r.min_distance, S(-1));
+        EXPECT_LE(expected, tol) << "a meeting reported " << double(expected) << " away";
+      }
+      else
+      {
+        EXPECT_NEAR(double(r.min_distance), double(expected), double(tol));
+        EXPECT_LE(distanceToMesh(torus.tri, fcl::Vector3<S>(tf1.inverse(Eigen::Isometry) * r.nearest_points[0])), tol)
+            << "nearest point 0 is not on the mesh";
+        EXPECT_NEAR(double(plane.height(r.nearest_points[1])), 0.0, double(tol)) << "nearest point 1 is not on the plane";
+        EXPECT_NEAR((r.nearest_points[0] - r.nearest_points[1]).norm(), r.min_distance, tol);
+      }
+      request.enable_signed_distance = true;
+      fcl::DistanceResult<S> signed_result;
+      if (mesh_first)
+        fcl_rs::distance<S>(torus.rs.get(), tf1, &shape, tf2, request, signed_result);
+      else
+        fcl_rs::distance<S>(&shape, tf2, torus.rs.get(), tf1, request, signed_result);
+      if (signed_result.min_distance > 0 || expected > tol)
+      {
+        EXPECT_EQ(signed_result.min_distance, r.min_distance);
+      }
+      else
+      {
+        EXPECT_NEAR(double(signed_result.min_distance), double(expected), double(tol)) << "signed";
+      }
+    }
+    return expected;
+  }
+};
+TYPED_TEST_SUITE(DistancePlaneAndHalfspace, fcl_rs::test::Scalars);
+
+/// Seeded poses: the torus (radius 1.25) at a random pose, the plane or halfspace with a random normal at a height
+/// within 1.7 of its centre (the halfspace mostly below it), crossing it or apart, both solvers.
+TYPED_TEST(DistancePlaneAndHalfspace, SeededPosesMatchTheClosedForm)
+{
+  using S = TypeParam;
+  const auto run = [&](const auto* kind, const char* name, double lowest, double highest) {
+    using Shape = std::decay_t<decltype(*kind)>;
+    const std::string what = std::string("distance/plane-halfspace/") + name + "/" + scalarName<S>();
+    auto rng = fcl_rs::test::seededRng(what);
+    std::uniform_real_distribution<double> height(lowest, highest);
+    int crossing = 0, apart = 0;
+    for (int i = 0; i < 24; ++i)
+    {
+      SCOPED_TRACE(what + " pose #" + std::to_string(i));
+      const fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(1));
+      fcl::Transform3<S> tf2 = fcl_rs::test::randomPose<S>(rng, S(1));
+      tf2.translation() += tf1.translation();
+      const fcl::Vector3<S> n = fcl_rs::test::randomRotation<S>(rng).col(0);
+      // The local offset that puts the plane at the drawn height above the torus's centre.
+      const S n_world_dot = (tf2.linear() * n).dot(tf2.translation() - tf1.translation());
+      const Shape shape(n, S(height(rng)) - n_world_dot);
+      const long double d = this->check(shape, tf1, tf2, i % 2 ? fcl::GST_INDEP : fcl::GST_LIBCCD);
+      (d < 0 ? crossing : apart) += 1;
+    }
+    std::cout << "[distance] " << what << ": 24 poses, " << crossing << " crossing, " << apart << " apart\n";
+    EXPECT_GE(crossing, 4);
+    EXPECT_GE(apart, 4);
+  };
+  run(static_cast<const fcl::Plane<S>*>(nullptr), "plane", -1.7, 1.7);
+  run(static_cast<const fcl::Halfspace<S>*>(nullptr), "halfspace", -2.4, 1);
+}
+
+/// Grazing: the plane or halfspace through the torus's lowest vertex along a random normal (the mesh on the
+/// halfspace's empty side) meets it (-1, as collide reports), however the plane is posed; moved 1e-3 away it is
+/// 1e-3 away, moved 1e-3 into the mesh it meets it.
+TYPED_TEST(DistancePlaneAndHalfspace, GrazingPosesTouch)
+{
+  using S = TypeParam;
+  const std::string what = "distance/plane-halfspace/grazing/" + scalarName<S>();
+  auto rng = fcl_rs::test::seededRng(what);
+  for (int i = 0; i < 8; ++i)
+  {
+    SCOPED_TRACE(what + " pose #" + std::to_string(i));
+    const fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(2));
+    const fcl::Transform3<S> tf2 = i % 2 ? fcl_rs::test::randomPose<S>(rng, S(2)) : fcl::Transform3<S>::Identity();
+    const fcl::Vector3<S> n = fcl_rs::test::randomRotation<S>(rng).col(0);
+    // The lowest world vertex along the world normal, as a local offset.
+    const WorldPlane<S> at_zero(n, S(0), tf2);
+    const std::vector<long double> h = at_zero.heights(this->torus.tri, tf1);
+    const S lowest = S(*std::min_element(h.begin(), h.end()));
+    for (const S shift : {S(0), S(-1e-3), S(1e-3)})
+    {
+      SCOPED_TRACE("shift " + std::to_string(shift));
+      const fcl::Plane<S> plane(n, lowest + shift);
+      const fcl::Halfspace<S> halfspace(n, lowest + shift);
+      const long double plane_distance = this->check(plane, tf1, tf2, fcl::GST_LIBCCD);
+      const long double halfspace_distance = this->check(halfspace, tf1, tf2, fcl::GST_LIBCCD);
+      fcl::DistanceResult<S> r;
+      fcl_rs::distance<S>(this->torus.rs.get(), tf1, &halfspace, tf2, fcl::DistanceRequest<S>(), r);
+      if (shift < 0)
+      {
+        EXPECT_NEAR(double(plane_distance), 1e-3, 1e-5);
+        EXPECT_NEAR(double(halfspace_distance), 1e-3, 1e-5);
+        EXPECT_GT(r.min_distance, 0);
+      }
+      else
+        EXPECT_EQ(r.min_distance, S(-1)) << "touching or crossing, but distance " << r.min_distance;
+    }
+  }
+}
+
 template <typename S>
 class DistanceDispatch : public ::testing::Test {};
 TYPED_TEST_SUITE(DistanceDispatch, fcl_rs::test::Scalars);
@@ -675,10 +853,11 @@ TYPED_TEST(DistanceDispatch, OtherPairsPassThroughAndUnsupportedPairsThrow)
   fcl::DistanceResult<S> r;
   EXPECT_THROW(fcl_rs::distance<S>(torus.rs.get(), id, torus.obbrss.get(), away, request, r), std::invalid_argument);
   EXPECT_THROW(fcl_rs::distance<S>(torus.obbrss.get(), id, torus.rs.get(), away, request, r), std::invalid_argument);
+  // FCL's GJK has no support function for planes and halfspaces: pairs of shapes with one are refused.
   const fcl::Halfspace<S> halfspace(fcl::Vector3<S>(0, 0, 1), -1);
   const fcl::Plane<S> plane(fcl::Vector3<S>(0, 0, 1), -1);
-  EXPECT_THROW(fcl_rs::distance<S>(torus.rs.get(), id, &halfspace, away, request, r), std::invalid_argument);
-  EXPECT_THROW(fcl_rs::distance<S>(&plane, away, torus.rs.get(), id, request, r), std::invalid_argument);
+  EXPECT_THROW(fcl_rs::distance<S>(&sphere, id, &halfspace, away, request, r), std::invalid_argument);
+  EXPECT_THROW(fcl_rs::distance<S>(&plane, away, &sphere, id, request, r), std::invalid_argument);
   fcl::BVHModel<fcl_rs::RS<S>> unbuilt;
   EXPECT_THROW(fcl_rs::distance<S>(&unbuilt, id, torus.rs.get(), away, request, r), std::invalid_argument);
   EXPECT_THROW(fcl_rs::distance<S>(nullptr, id, torus.rs.get(), away, request, r), std::invalid_argument);

@@ -554,7 +554,8 @@ Cell staticCell(const Scene<S>& scene, const Partner<S>& partner, Query query, b
     }
     if (!call_fcl)
     {
-      // Mesh-sphere signed distance (FCL undefined here): fcl_rs's own convention, minus the deepest penetration.
+      // FCL not called (mesh-sphere signed distance, mesh-plane and mesh-halfspace distance): fcl_rs's own
+      // convention, negative (-1, or minus the deepest penetration); tests/test_distance.cpp checks the values.
       if (!(rs < 0)) disagree(cell, where + ": crossing, but signed distance " + std::to_string(rs));
       continue;
     }

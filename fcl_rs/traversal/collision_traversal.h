@@ -226,54 +226,21 @@ private:
   detail::BoxedFrame<S> moved_;
 };
 
-/// The pair kernel's rounding bound for a node against a plane n . x = d (|n| = 1) in the node's model
-/// coordinates: the plane plays b1, with no extent of its own.
+/// Halfspaces and planes are unbounded: exact support tests (PlaneGap) instead of a huge slab volume.
 template <typename S>
-S shapeRoundingBound(const RS<S>& node, S d)
-{
-  return detail::pairRoundingBound<S>(node.origin.template lpNorm<1>() + std::abs(d), detail::Box<S>(node).reach());
-}
-
-/// Halfspaces and planes are unbounded: exact support tests instead of a huge slab volume.
-template <typename S>
-class ShapeBound<S, fcl::Halfspace<S>>
+class ShapeBound<S, fcl::Halfspace<S>> : public detail::PlaneGap<fcl::Halfspace<S>>
 {
 public:
-  ShapeBound(const fcl::Halfspace<S>& shape, const fcl::Transform3<S>& shape_in_mesh)
-    : h_(fcl::transform(shape, shape_in_mesh)) {}
-  bool overlaps(const RS<S>& node) const
-  {
-    if (node.empty()) return false;
-    const fcl::Vector3<S> n = node.axes().transpose() * h_.n;
-    const S lowest = h_.n.dot(node.origin) - node.support(-n);
-    return lowest <= h_.d + shapeRoundingBound(node, std::abs(h_.d) + offsets_);
-  }
-  void coverLeaves(S offsets) { offsets_ = offsets; }
-
-private:
-  fcl::Halfspace<S> h_;
-  S offsets_ = 0;
+  using detail::PlaneGap<fcl::Halfspace<S>>::PlaneGap;
+  bool overlaps(const RS<S>& node) const { return this->gap(node) <= 0; }
 };
 
 template <typename S>
-class ShapeBound<S, fcl::Plane<S>>
+class ShapeBound<S, fcl::Plane<S>> : public detail::PlaneGap<fcl::Plane<S>>
 {
 public:
-  ShapeBound(const fcl::Plane<S>& shape, const fcl::Transform3<S>& shape_in_mesh)
-    : p_(fcl::transform(shape, shape_in_mesh)) {}
-  bool overlaps(const RS<S>& node) const
-  {
-    if (node.empty()) return false;
-    const fcl::Vector3<S> n = node.axes().transpose() * p_.n;
-    const S at_origin = p_.n.dot(node.origin);
-    const S tol = shapeRoundingBound(node, std::abs(p_.d) + offsets_);
-    return at_origin - node.support(-n) <= p_.d + tol && at_origin + node.support(n) >= p_.d - tol;
-  }
-  void coverLeaves(S offsets) { offsets_ = offsets; }
-
-private:
-  fcl::Plane<S> p_;
-  S offsets_ = 0;
+  using detail::PlaneGap<fcl::Plane<S>>::PlaneGap;
+  bool overlaps(const RS<S>& node) const { return this->gap(node) <= 0; }
 };
 
 /// A sphere is tested exactly against a node's principal box and diagonal slabs: cheaper than an RS test of
@@ -362,11 +329,7 @@ bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& nod
     node.bound.emplace(std::move(*bound));
   else
     node.bound.emplace(model2, tf1.inverse(Eigen::Isometry) * tf2);
-  // The mesh's points lie within |origin|_1 + 2 reach of its frame's origin (reach: along the root's own axes).
-  using S = typename Shape::S;
-  const RS<S>& root = model1.getBV(0).bv;
-  const S mesh_reach = root.origin.template lpNorm<1>() + 2 * detail::Box<S>(root).reach();
-  node.bound->coverLeaves(node.leaf->boundOffsets(mesh_reach));
+  node.bound->coverLeaves(detail::leafBoundOffsets(model1, *node.leaf));
   return true;
 }
 

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include <fcl/geometry/shape/halfspace.h>
+#include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/detail/primitive_shape_algorithm/triangle_distance.h>
 #include <fcl/narrowphase/detail/traversal/distance/mesh_distance_traversal_node.h>
@@ -209,10 +211,33 @@ public:
     moved_ = detail::MovedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_);
   }
   S distance(const RS<S>& node, S enough) const { return distanceLowerBound<S>(moved_, node, bv_, enough); }
+  /// Widens the bound's rounding offsets by detail::leafBoundOffsets: a node with a triangle the leaf test reports
+  /// as meeting (-1) is never pruned by a bound above 0, so the distance is negative exactly when collide reports.
+  void coverLeaves(S offsets)
+  {
+    moved_ = detail::MovedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_, offsets);
+  }
 
 private:
   RS<S> bv_;
   detail::MovedFrame<S> moved_;  ///< bv_'s frame, moved once per query
+};
+
+/// Planes and halfspaces have no bounded volume: the node's gap to the shape along its normal (detail::PlaneGap).
+template <typename S>
+class ShapeDistanceBound<S, fcl::Halfspace<S>> : public detail::PlaneGap<fcl::Halfspace<S>>
+{
+public:
+  using detail::PlaneGap<fcl::Halfspace<S>>::PlaneGap;
+  S distance(const RS<S>& node, S) const { return std::max(S(0), this->gap(node)); }
+};
+
+template <typename S>
+class ShapeDistanceBound<S, fcl::Plane<S>> : public detail::PlaneGap<fcl::Plane<S>>
+{
+public:
+  using detail::PlaneGap<fcl::Plane<S>>::PlaneGap;
+  S distance(const RS<S>& node, S) const { return std::max(S(0), this->gap(node)); }
 };
 
 /// Mesh-shape distance as FCL's MeshShapeDistanceTraversalNodeRSS, but with the shape bounded in the
@@ -276,6 +301,7 @@ bool initialize(MeshShapeDistanceTraversalNodeRS<Shape, NarrowPhaseSolver>& node
   node.abs_err = request.abs_err;
   node.bound.reset(new ShapeDistanceBound<S, Shape>(model2, tf1.inverse(Eigen::Isometry) * tf2));
   node.leaf.emplace(model2, tf1, tf2);
+  node.bound->coverLeaves(detail::leafBoundOffsets(model1, *node.leaf));
   return true;
 }
 

@@ -1,7 +1,13 @@
 // The one switch from a geometry's node type to its primitive shape type, and what every mesh-shape traversal
-// shares (collision and distance): the node's set-up and the descent's pairs.
+// shares (collision and distance): the node's set-up, the bounds' cover of the leaf test, the plane and halfspace
+// bound, and the descent's pairs.
 #ifndef FCL_RS_SHAPE_SWITCH_H
 #define FCL_RS_SHAPE_SWITCH_H
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <type_traits>
 
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
@@ -61,6 +67,50 @@ bool setUpMeshShapeNode(Node& node, const fcl::BVHModel<RS<typename Shape::S>>& 
   node.result = &result;
   return true;
 }
+
+/// What a node bound must add to its rounding offsets so that it never prunes a triangle of model1 that leaf (a
+/// TriangleShapeLeaf) reports as meeting the shape: leaf.boundOffsets for model1's points, which lie within
+/// |origin|_1 + 2 reach of its frame's origin (reach: along the root's own axes).
+template <typename S, typename Leaf>
+S leafBoundOffsets(const fcl::BVHModel<RS<S>>& model1, const Leaf& leaf)
+{
+  const RS<S>& root = model1.getBV(0).bv;
+  return leaf.boundOffsets(root.origin.template lpNorm<1>() + 2 * Box<S>(root).reach());
+}
+
+/// How far an RS node lies from a plane n . x = d or a halfspace n . x <= d (Shape, |n| = 1), both unbounded and
+/// so bounded by no volume: the node's lowest height n . x - d by its exact support along -n (and, for a plane,
+/// the plane's height above the node's highest point), less the pair kernel's rounding bound with the plane as
+/// b1 without extent. gap(node) > 0 proves the node that far from the shape (collision prunes it, distance
+/// bounds it by the gap); <= 0, it may meet it. In the mesh's frame (shape_in_mesh).
+template <typename Shape>
+class PlaneGap
+{
+public:
+  using S = typename Shape::S;
+  PlaneGap(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh) : shape_(fcl::transform(shape, shape_in_mesh))
+  {
+  }
+  S gap(const RS<S>& node) const
+  {
+    if (node.empty()) return std::numeric_limits<S>::max();
+    const fcl::Vector3<S> n = node.axes().transpose() * shape_.n;
+    const S at_origin = shape_.n.dot(node.origin) - shape_.d;
+    S gap = at_origin - node.support(-n);
+    // A node above the plane is not also below it: the second support only where the first leaves it unproven.
+    if constexpr (std::is_same_v<Shape, fcl::Plane<S>>)
+      if (gap <= 0) gap = std::max(gap, -at_origin - node.support(n));
+    return gap - pairRoundingBound<S>(node.origin.template lpNorm<1>() + std::abs(shape_.d) + offsets_,
+                                      Box<S>(node).reach());
+  }
+  /// Widens the rounding offsets by leafBoundOffsets, so that a node with a triangle the leaf test reports never
+  /// has a positive gap.
+  void coverLeaves(S offsets) { offsets_ = offsets; }
+
+private:
+  Shape shape_;
+  S offsets_ = 0;
+};
 
 /// What the descent policies of a mesh (first) and a shape (a single leaf, second) share: the mesh's node is
 /// always the one split, left child first (FCL's order).
