@@ -295,8 +295,10 @@ TEST(ValidateContinuous, NaiveModeTakesOneIterationAndTinyTocErr)
 }
 
 /// FCL's distance to a plane or a halfspace calls a null support function (fuzz_api found it for a sphere and a
-/// plane): every such pair is refused, shapes and RS meshes alike, in either order.
-TYPED_TEST(Validate, DistanceToPlanesAndHalfspacesIsRefused)
+/// plane): every pair of shapes with one is refused, in either order. An RS mesh is measured by fcl_rs's own
+/// traversal (tests/test_distance.cpp): its sphere of radius 1 is 4 from the plane z = 5, and crosses the halfspace
+/// y <= 0.
+TYPED_TEST(Validate, DistanceToPlanesAndHalfspacesIsRefusedForShapes)
 {
   using S = TypeParam;
   const auto mesh = fcl_rs::buildModel<fcl_rs::RS<S>>(fcl_rs::makeSphere<S>(1, 4, 6));
@@ -306,18 +308,27 @@ TYPED_TEST(Validate, DistanceToPlanesAndHalfspacesIsRefused)
   const fcl::Halfspace<S> halfspace(fcl::Vector3<S>(0, 1, 0), 0);
   fcl::Transform3<S> far = fcl::Transform3<S>::Identity();
   far.translation() << 0, 0, 5;
-  const std::vector<const fcl::CollisionGeometry<S>*> others = {mesh.get(), &sphere, &box, &plane, &halfspace};
+  const fcl::Transform3<S> I = fcl::Transform3<S>::Identity();
+  const std::vector<const fcl::CollisionGeometry<S>*> others = {&sphere, &box, &plane, &halfspace};
+  const fcl::DistanceRequest<S> request;
   for (const fcl::CollisionGeometry<S>* flat : {static_cast<const fcl::CollisionGeometry<S>*>(&plane),
                                                 static_cast<const fcl::CollisionGeometry<S>*>(&halfspace)})
+  {
     for (const fcl::CollisionGeometry<S>* other : others)
     {
       fcl::DistanceResult<S> result;
-      const fcl::DistanceRequest<S> request;
-      expectMessage([&] { fcl_rs::distance(flat, far, other, fcl::Transform3<S>::Identity(), request, result); },
+      expectMessage([&] { fcl_rs::distance(flat, far, other, I, request, result); },
                     {"fcl_rs::distance: pair of node types", "halfspace"});
-      expectMessage([&] { fcl_rs::distance(other, far, flat, fcl::Transform3<S>::Identity(), request, result); },
+      expectMessage([&] { fcl_rs::distance(other, far, flat, I, request, result); },
                     {"fcl_rs::distance: pair of node types", "halfspace"});
     }
+    fcl::DistanceResult<S> mesh_first, flat_first;
+    fcl_rs::distance(mesh.get(), I, flat, far, request, mesh_first);
+    fcl_rs::distance(flat, far, mesh.get(), I, request, flat_first);
+    const S expected = flat == &plane ? S(4) : S(-1);
+    EXPECT_NEAR(mesh_first.min_distance, expected, S(1e-5));
+    EXPECT_NEAR(flat_first.min_distance, expected, S(1e-5));
+  }
 }
 
 /// Signed distance of two overlapping shapes under either solver: FCL's own fallback asserted under GST_INDEP
