@@ -125,6 +125,8 @@ S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::MotionBase<S
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::continuousCollide: null collision geometry");
   if (!motion1 || !motion2)
     throw std::invalid_argument("fcl_rs::continuousCollide: null motion (unknown request.ccd_motion_type?)");
+  requireValidShape(o1, api, "o1");
+  requireValidShape(o2, api, "o2");
   requireValidRequest(request, api);
   // A motion between two rigid transforms stays rigid in between (FCL interpolates rotations as quaternions).
   fcl::Transform3<S> tf1, tf2;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <fcl/common/types.h>
+#include <fcl/geometry/collision_geometry.h>
 #include <fcl/narrowphase/collision_request.h>
 #include <fcl/narrowphase/continuous_collision_request.h>
 #include <fcl/narrowphase/distance_request.h>
@@ -101,6 +102,16 @@ void requireRigidTransforms(const std::vector<fcl::Transform3<S>>& tfs, const ch
       throw std::invalid_argument(detail::notRigidMessage(tfs[i], rigidTransformTolerance<S>(), api,
                                                           std::string(argument) + "[" + std::to_string(i) + "]"));
 }
+
+/// Throws std::invalid_argument "<api>: <argument> is an fcl::<Shape> with <what is wrong>" unless geometry, if it
+/// is one of FCL's primitive shapes (the ones detail::withShape dispatches), has sizes fcl_rs can answer for: Box
+/// sides, Sphere radius, Ellipsoid radii, Capsule, Cone and Cylinder radius and lz positive and finite; a Convex with
+/// finite vertices and a face list whose faces have at least 3 vertices, with indices in range; a Plane or Halfspace
+/// with a unit normal (within rigidTransformTolerance on |n|^2) and a finite offset. Other geometries (meshes,
+/// octrees, TriangleP) and null pass; the entries check null themselves. Constant time, but linear in a Convex's
+/// size, as its leaf set-up is (src/validate.cpp).
+template <typename S>
+void requireValidShape(const fcl::CollisionGeometry<S>* geometry, const char* api, const char* argument);
 
 namespace detail {
 

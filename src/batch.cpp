@@ -93,9 +93,11 @@ void parallelFor(std::size_t n, const BatchOptions& options,
 namespace {
 
 /// results[i] = query(poses_a[i], poses_b[i], results[i]) for every i; each query writes its own slot only. The
-/// inputs are validated here, once per array, and the queries skip the per-query validation.
+/// inputs (each pose array, the two shapes, the request) are validated here, once, and the queries skip the
+/// per-query validation.
 template <typename Result, typename S, typename Request, typename Query>
-std::vector<Result> poseBatch(const char* api, const std::vector<fcl::Transform3<S>>& poses_a,
+std::vector<Result> poseBatch(const char* api, const fcl::CollisionGeometry<S>& a,
+                              const std::vector<fcl::Transform3<S>>& poses_a, const fcl::CollisionGeometry<S>& b,
                               const std::vector<fcl::Transform3<S>>& poses_b, const Request& request,
                               const BatchOptions& options, const Query& query)
 {
@@ -105,6 +107,8 @@ std::vector<Result> poseBatch(const char* api, const std::vector<fcl::Transform3
                                 " for the second");
   requireRigidTransforms(poses_a, api, "poses_a");
   requireRigidTransforms(poses_b, api, "poses_b");
+  requireValidShape(&a, api, "a");
+  requireValidShape(&b, api, "b");
   requireValidRequest(request, api);
   std::vector<Result> results(poses_a.size());
   parallelFor(results.size(), options, [&](std::size_t begin, std::size_t end) {
@@ -123,7 +127,7 @@ std::vector<fcl::CollisionResult<S>> collideBatch(const fcl::CollisionGeometry<S
                                                   const fcl::CollisionRequest<S>& request, const BatchOptions& options)
 {
   return poseBatch<fcl::CollisionResult<S>>(
-      "fcl_rs::collideBatch", poses_a, poses_b, request, options,
+      "fcl_rs::collideBatch", a, poses_a, b, poses_b, request, options,
       [&](const fcl::Transform3<S>& ta, const fcl::Transform3<S>& tb, fcl::CollisionResult<S>& result) {
         detail::collideValidated(&a, ta, &b, tb, request, result);
       });
@@ -137,7 +141,7 @@ std::vector<fcl::DistanceResult<S>> distanceBatch(const fcl::CollisionGeometry<S
                                                   const fcl::DistanceRequest<S>& request, const BatchOptions& options)
 {
   return poseBatch<fcl::DistanceResult<S>>(
-      "fcl_rs::distanceBatch", poses_a, poses_b, request, options,
+      "fcl_rs::distanceBatch", a, poses_a, b, poses_b, request, options,
       [&](const fcl::Transform3<S>& ta, const fcl::Transform3<S>& tb, fcl::DistanceResult<S>& result) {
         detail::distanceValidated(&a, ta, &b, tb, request, result);
       });

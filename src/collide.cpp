@@ -218,6 +218,8 @@ std::size_t collide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S
 {
   requireRigidTransform(tf1, kApi, "tf1");
   requireRigidTransform(tf2, kApi, "tf2");
+  requireValidShape(o1, kApi, "o1");
+  requireValidShape(o2, kApi, "o2");
   requireValidRequest(request, kApi);
   return detail::collideValidated(o1, tf1, o2, tf2, request, result);
 }
@@ -229,6 +231,8 @@ std::size_t collide(const fcl::CollisionObject<S>* o1, const fcl::CollisionObjec
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::collide: null collision object");
   requireRigidTransform(o1->getTransform(), kApi, "o1->getTransform()");
   requireRigidTransform(o2->getTransform(), kApi, "o2->getTransform()");
+  requireValidShape(o1->collisionGeometry().get(), kApi, "o1->collisionGeometry()");
+  requireValidShape(o2->collisionGeometry().get(), kApi, "o2->collisionGeometry()");
   requireValidRequest(request, kApi);
   return detail::collideValidated(o1->collisionGeometry().get(), o1->getTransform(), o2->collisionGeometry().get(),
                                   o2->getTransform(), request, result);

@@ -221,6 +221,8 @@ S distance(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1, c
 {
   requireRigidTransform(tf1, kApi, "tf1");
   requireRigidTransform(tf2, kApi, "tf2");
+  requireValidShape(o1, kApi, "o1");
+  requireValidShape(o2, kApi, "o2");
   requireValidRequest(request, kApi);
   return detail::distanceValidated(o1, tf1, o2, tf2, request, result);
 }
@@ -232,6 +234,8 @@ S distance(const fcl::CollisionObject<S>* o1, const fcl::CollisionObject<S>* o2,
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::distance: null collision object");
   requireRigidTransform(o1->getTransform(), kApi, "o1->getTransform()");
   requireRigidTransform(o2->getTransform(), kApi, "o2->getTransform()");
+  requireValidShape(o1->collisionGeometry().get(), kApi, "o1->collisionGeometry()");
+  requireValidShape(o2->collisionGeometry().get(), kApi, "o2->collisionGeometry()");
   requireValidRequest(request, kApi);
   return detail::distanceValidated(o1->collisionGeometry().get(), o1->getTransform(), o2->collisionGeometry().get(),
                                    o2->getTransform(), request, result);

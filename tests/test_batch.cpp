@@ -264,6 +264,12 @@ TYPED_TEST(Batch, BadInputIsAnError)
   bad_request.abs_err = std::numeric_limits<S>::quiet_NaN();
   test::expectError([&] { distanceBatch<S>(*scene.torus, scene.poses_a, *scene.sphere, scene.poses_b, bad_request); },
                     {"fcl_rs::distanceBatch: request.abs_err"});
+  // So are the two shapes' sizes (tests/test_validate.cpp tries every kind).
+  const fcl::Box<S> flat(S(1), S(0), S(1));
+  test::expectError([&] { collideBatch<S>(flat, scene.poses_a, *scene.torus, scene.poses_b, {}); },
+                    {"fcl_rs::collideBatch: a is an fcl::Box with side (1, 0, 1)"});
+  test::expectError([&] { distanceBatch<S>(*scene.torus, scene.poses_a, flat, scene.poses_b, fcl::DistanceRequest<S>()); },
+                    {"fcl_rs::distanceBatch: b is an fcl::Box with side (1, 0, 1)"});
 
   const RobotModel robot = foldingChain();
   const SelfCollision<S> rs(robot, BVType::kRS);

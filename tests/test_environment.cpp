@@ -265,6 +265,8 @@ TYPED_TEST(EnvironmentTest, BadInputIsRefused)
   expectInvalid([&] { env.addShape("a", nullptr, at<S>(0, 0, 0)); }, "'a'");
   expectInvalid(
       [&] { env.addShape("a", std::make_shared<fcl::Plane<S>>(fcl::Vector3<S>::UnitZ(), S(0)), at<S>(0, 0, 0)); }, "'a'");
+  expectInvalid([&] { env.addShape("a", std::make_shared<fcl::Sphere<S>>(S(-0.1)), at<S>(0, 0, 0)); },
+                "fcl_rs::Environment::addShape: obstacle 'a' is an fcl::Sphere with radius -0.1");
   fcl::Transform3<S> bad = at<S>(0, 0, 0);
   bad.linear()(0, 0) = S(2);
   expectInvalid([&] { env.addShape("a", box, bad); }, "rigid");

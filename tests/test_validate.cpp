@@ -12,6 +12,11 @@
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/cone.h>
+#include <fcl/geometry/shape/convex.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/ellipsoid.h>
 #include <fcl/geometry/shape/halfspace.h>
 #include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/sphere.h>
@@ -292,6 +297,105 @@ TEST(ValidateContinuous, NaiveModeTakesOneIterationAndTinyTocErr)
     EXPECT_EQ(fcl_rs::continuousCollide<S>(&a, start, end, &b, fixed, fixed, request, result), c.time_of_contact);
     EXPECT_TRUE(result.is_collide);
   }
+}
+
+/// A shape of each kind with a defect requireValidShape refuses, with words its message must hold. The convex
+/// shapes are made valid and spoilt afterwards (FCL's constructor itself reads the face list), as a caller that
+/// keeps the vectors it shares with the shape could.
+template <typename S>
+std::vector<std::pair<std::shared_ptr<fcl::CollisionGeometry<S>>, std::string>> badShapes()
+{
+  const S nan = std::numeric_limits<S>::quiet_NaN(), inf = std::numeric_limits<S>::infinity();
+  std::vector<std::pair<std::shared_ptr<fcl::CollisionGeometry<S>>, std::string>> shapes = {
+      {std::make_shared<fcl::Box<S>>(S(-1), S(0.5), S(0.5)), "fcl::Box with side (-1, 0.5, 0.5)"},
+      {std::make_shared<fcl::Box<S>>(nan, S(1), S(1)), "fcl::Box with side (nan"},
+      {std::make_shared<fcl::Sphere<S>>(S(0)), "fcl::Sphere with radius 0"},
+      {std::make_shared<fcl::Sphere<S>>(inf), "fcl::Sphere with radius inf"},
+      {std::make_shared<fcl::Ellipsoid<S>>(S(1), S(-1), S(1)), "fcl::Ellipsoid with radii (1, -1, 1)"},
+      {std::make_shared<fcl::Capsule<S>>(S(-0.1), S(1)), "fcl::Capsule with radius -0.1"},
+      {std::make_shared<fcl::Capsule<S>>(S(0.1), nan), "fcl::Capsule with radius 0.1"},
+      {std::make_shared<fcl::Cone<S>>(S(0.1), S(-1)), "fcl::Cone with radius 0.1"},
+      {std::make_shared<fcl::Cylinder<S>>(nan, S(1)), "fcl::Cylinder with radius nan"}};
+  const auto plane = std::make_shared<fcl::Plane<S>>(fcl::Vector3<S>(0, 0, 1), S(0));
+  plane->n = fcl::Vector3<S>(0, 0, 2);
+  shapes.emplace_back(plane, "fcl::Plane with normal (0, 0, 2): it must be a finite unit vector");
+  const auto halfspace = std::make_shared<fcl::Halfspace<S>>(fcl::Vector3<S>(0, 0, 1), S(0));
+  halfspace->d = nan;
+  shapes.emplace_back(halfspace, "fcl::Halfspace with offset d nan");
+  // A tetrahedron; each spoilt copy changes one thing after construction.
+  const auto tetrahedron = [](const std::function<void(std::vector<fcl::Vector3<S>>&, std::vector<int>&)>& spoil) {
+    auto vertices = std::make_shared<std::vector<fcl::Vector3<S>>>(std::vector<fcl::Vector3<S>>{
+        fcl::Vector3<S>(0, 0, 0), fcl::Vector3<S>(1, 0, 0), fcl::Vector3<S>(0, 1, 0), fcl::Vector3<S>(0, 0, 1)});
+    auto faces = std::make_shared<std::vector<int>>(std::vector<int>{3, 0, 2, 1, 3, 0, 1, 3, 3, 0, 3, 2, 3, 1, 2, 3});
+    auto convex = std::make_shared<fcl::Convex<S>>(vertices, 4, faces);
+    spoil(*vertices, *faces);
+    return convex;
+  };
+  shapes.emplace_back(tetrahedron([](auto&, auto& f) { f[6] = 4; }), "fcl::Convex whose face 1 has vertex index 4, not in [0, 4)");
+  shapes.emplace_back(tetrahedron([](auto&, auto& f) { f[2] = -1; }), "fcl::Convex whose face 0 has vertex index -1");
+  shapes.emplace_back(tetrahedron([&](auto& v, auto&) { v[3].x() = nan; }), "fcl::Convex with vertex 3 at (nan");
+  shapes.emplace_back(tetrahedron([](auto&, auto& f) { f[4] = 2; }), "fcl::Convex whose face 1 has 2 vertices");
+  shapes.emplace_back(tetrahedron([](auto&, auto& f) { f.resize(14); }), "fcl::Convex whose face list (14 ints) ends inside face 3");
+  return shapes;
+}
+
+/// Every entry refuses a shape with a bad size, naming the argument, in either position, against an RS mesh (the
+/// RS traversal) and against a sphere (a pair passed on to FCL); the same shapes made well pass.
+TYPED_TEST(Validate, EntryPointsRefuseBadShapes)
+{
+  using S = TypeParam;
+  const auto mesh = fcl_rs::buildModel<fcl_rs::RS<S>>(fcl_rs::makeSphere<S>(1, 4, 6));
+  const auto sphere = std::make_shared<fcl::Sphere<S>>(S(0.5));
+  const fcl::Transform3<S> I = fcl::Transform3<S>::Identity();
+  for (const auto& [bad_shape, defect_text] : badShapes<S>())
+    for (const std::shared_ptr<fcl::CollisionGeometry<S>>& other :
+         {std::static_pointer_cast<fcl::CollisionGeometry<S>>(mesh), std::static_pointer_cast<fcl::CollisionGeometry<S>>(sphere)})
+      for (const bool bad_first : {true, false})
+      {
+        const auto bad = bad_shape;
+        const std::string defect = defect_text;
+        SCOPED_TRACE(defect + (bad_first ? ", first against " : ", second against ") + std::to_string(other->getNodeType()));
+        const fcl::CollisionGeometry<S>* g1 = bad_first ? bad.get() : other.get();
+        const fcl::CollisionGeometry<S>* g2 = bad_first ? other.get() : bad.get();
+        const std::string arg = bad_first ? "1" : "2";
+        fcl::CollisionResult<S> cr;
+        expectMessage([&] { fcl_rs::collide(g1, I, g2, I, fcl::CollisionRequest<S>(), cr); },
+                      {"fcl_rs::collide: o" + arg + " is an " + defect});
+        fcl::DistanceResult<S> dr;
+        expectMessage([&] { fcl_rs::distance(g1, I, g2, I, fcl::DistanceRequest<S>(), dr); },
+                      {"fcl_rs::distance: o" + arg + " is an " + defect});
+        const fcl::CollisionObject<S> o1(bad_first ? bad : other, I), o2(bad_first ? other : bad, I);
+        expectMessage([&] { fcl_rs::collide(&o1, &o2, fcl::CollisionRequest<S>(), cr); },
+                      {"fcl_rs::collide: o" + arg + "->collisionGeometry() is an " + defect});
+        expectMessage([&] { fcl_rs::distance(&o1, &o2, fcl::DistanceRequest<S>(), dr); },
+                      {"fcl_rs::distance: o" + arg + "->collisionGeometry() is an " + defect});
+        if constexpr (std::is_same_v<S, double>)
+        {
+          fcl::ContinuousCollisionResult<S> ccr;
+          expectMessage(
+              [&] { fcl_rs::continuousCollide(g1, I, I, g2, I, I, fcl::ContinuousCollisionRequest<S>(), ccr); },
+              {"fcl_rs::continuousCollide: o" + arg + " is an " + defect});
+        }
+      }
+  // Well-made shapes of every kind pass, the planes with the unit normals their constructors make.
+  const auto tetrahedron_vertices = std::make_shared<std::vector<fcl::Vector3<S>>>(std::vector<fcl::Vector3<S>>{
+      fcl::Vector3<S>(0, 0, 0), fcl::Vector3<S>(1, 0, 0), fcl::Vector3<S>(0, 1, 0), fcl::Vector3<S>(0, 0, 1)});
+  const auto faces = std::make_shared<std::vector<int>>(std::vector<int>{3, 0, 2, 1, 3, 0, 1, 3, 3, 0, 3, 2, 3, 1, 2, 3});
+  const std::vector<std::shared_ptr<fcl::CollisionGeometry<S>>> good = {
+      std::make_shared<fcl::Box<S>>(S(1), S(2), S(3)), std::make_shared<fcl::Sphere<S>>(S(1e-6)),
+      std::make_shared<fcl::Ellipsoid<S>>(S(1), S(2), S(3)), std::make_shared<fcl::Capsule<S>>(S(0.1), S(1)),
+      std::make_shared<fcl::Cone<S>>(S(0.1), S(1)), std::make_shared<fcl::Cylinder<S>>(S(0.1), S(1)),
+      std::make_shared<fcl::Convex<S>>(tetrahedron_vertices, 4, faces),
+      std::make_shared<fcl::Plane<S>>(fcl::Vector3<S>(S(0.3), S(-2), S(7)), S(3)),
+      std::make_shared<fcl::Halfspace<S>>(fcl::Vector3<S>(S(1e-3), S(2e-3), S(-5e-3)), S(-1))};
+  for (const auto& shape : good)
+  {
+    SCOPED_TRACE("node type " + std::to_string(shape->getNodeType()));
+    EXPECT_NO_THROW(fcl_rs::requireValidShape<S>(shape.get(), "test", "shape"));
+    fcl::CollisionResult<S> cr;
+    EXPECT_NO_THROW(fcl_rs::collide<S>(mesh.get(), I, shape.get(), I, fcl::CollisionRequest<S>(), cr));
+  }
+  EXPECT_NO_THROW(fcl_rs::requireValidShape<S>(mesh.get(), "test", "shape"));
 }
 
 /// FCL's distance to a plane or a halfspace calls a null support function (fuzz_api found it for a sphere and a

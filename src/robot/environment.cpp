@@ -722,6 +722,7 @@ void Environment<S>::addShape(const std::string& name, std::shared_ptr<fcl::Coll
       throw std::invalid_argument("fcl_rs::Environment::addShape: obstacle '" + name +
                                   "' is not a box, sphere, cylinder, capsule, cone, ellipsoid or convex shape");
   }
+  requireValidShape(shape.get(), "fcl_rs::Environment::addShape", ("obstacle '" + name + "'").c_str());
   requireRigidTransform(pose, kApi, ("the pose of obstacle '" + name + "'").c_str());
   impl_->add(name, std::move(shape), pose);
 }
