@@ -874,7 +874,8 @@ PYBIND11_MODULE(fcl_rs, m)
       .def_property_readonly("upper", [](const PyEnvironment& e) { return fcl::VectorXd(e.env.kinematics().upper()); })
       .def_property_readonly("obstacle_names", [](const PyEnvironment& e) { return e.env.obstacleNames(); },
                              "in insertion order")
-      .def("__contains__", [](const PyEnvironment& e, const std::string& name) { return e.env.contains(name); })
+      .def("__contains__", [](const PyEnvironment& e, const std::string& name) { return e.env.contains(name); },
+           py::arg("name"))
       .def(
           "add_shape",
           [](PyEnvironment& e, const std::string& name, const GeometryPtr& shape, const py::handle& pose) {
