@@ -2,13 +2,18 @@
 kinematics written here in numpy, each pair through fcl_rs.collide / fcl_rs.distance), octree obstacles against one
 box per occupied cell, sensor updates, motion checks against dense sampling, batches against single calls, edits
 from one thread while another runs batches."""
+import os
+import runpy
+import sys
 import threading
 
 import numpy as np
 import pytest
 
 import fcl_rs
-from conftest import TIP_OBJ
+from conftest import SOURCE_DIR, TIP_OBJ
+
+SHARED_DATA = os.environ.get("FCL_RS_SHARED_DATA_DIR") or os.path.join(SOURCE_DIR, "..", "shared", "data")
 
 needs_octomap = pytest.mark.skipif(not hasattr(fcl_rs, "OcTree"), reason="FCL built without octomap")
 
@@ -382,3 +387,26 @@ def test_edits_wait_for_batches_in_other_threads(environment, rng):
     stop.set()
     worker.join()
     assert answers and all(np.array_equal(a, without) or np.array_equal(a, with_slab) for a in answers)
+
+
+def test_example_runs_and_readme_quotes_it(capsys, monkeypatch):
+    """python/examples/environment.py with the Panda from ../shared/data (a skip without the data, a failure
+    under CI=true), and README.md quoting it whole."""
+    panda = os.path.join(SHARED_DATA, "robots", "panda")
+    if not os.path.isdir(panda):
+        message = f"shared data {panda} is missing"
+        if os.environ.get("CI", "") not in ("", "0", "false"):
+            pytest.fail(message + "; CI=true requires it")
+        pytest.skip(message)
+    path = os.path.join(SOURCE_DIR, "python", "examples", "environment.py")
+    monkeypatch.setattr(sys, "argv", [path, os.path.join(panda, "panda.urdf"), os.path.join(panda, "panda.srdf")])
+    runpy.run_path(path, run_name="__main__")
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].startswith("ready: False clearance: ") and lines[0].endswith("('panda_hand', 'scan', False)")
+    assert 0.01 < float(lines[0].split()[3]) < 0.03  # README: "about 2 cm"
+    assert lines[1].startswith("colliding configurations: ") and lines[1].endswith(" of 1000")
+    assert 0 < int(lines[1].split()[2]) < 1000
+    assert lines[2].startswith("motion: True free until: ") and 0.03 < float(lines[2].split()[-1]) < 0.08
+    assert lines[3] == "after the scan: [('panda_hand', 'scan', False)]"
+    with open(path) as f, open(os.path.join(SOURCE_DIR, "README.md")) as readme:
+        assert f.read() in readme.read(), "README's environment example differs from python/examples/environment.py"
