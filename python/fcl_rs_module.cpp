@@ -1,4 +1,5 @@
-// The Python module fcl_rs (pybind11): RS meshes, FCL shapes, collide/distance, batches and robots, in double.
+// The Python module fcl_rs (pybind11): RS meshes, FCL shapes, collide/distance, batches, robots and robots among
+// obstacles (environments, octomaps), in double.
 // Arrays come in and go out as numpy arrays; batch inputs are read in place and outputs are handed over
 // without a copy. C++ exceptions keep their messages (invalid_argument -> ValueError, runtime_error ->
 // RuntimeError).
@@ -240,8 +241,8 @@ struct Robot
 {
   Robot(const std::string& urdf, const std::string& srdf, const std::string& bv)
     : model(loadUrdf(urdf)),
-      checker(model, robotBVType(bv, "fcl_rs.Robot"), srdf.empty() ? std::vector<DisabledCollision>{}
-                                                   : loadDisabledCollisions(srdf, model))
+      checker(model, robotBVType(bv, "fcl_rs.Robot"),
+              srdf.empty() ? std::vector<DisabledCollision>{} : loadDisabledCollisions(srdf, model))
   {
   }
   RobotModel model;
@@ -292,7 +293,8 @@ py::array_t<double> poseArray(const fcl::Transform3d& tf)
 /// an environment knows to read the occupied cells again before its next query.
 struct OcTreeMap
 {
-  explicit OcTreeMap(std::shared_ptr<octomap::OcTree> m) : geometry(std::make_shared<fcl::OcTreed>(m)), map(std::move(m))
+  explicit OcTreeMap(std::shared_ptr<octomap::OcTree> m)
+    : geometry(std::make_shared<fcl::OcTreed>(m)), map(std::move(m))
   {
   }
   std::shared_ptr<fcl::OcTreed> geometry;
@@ -481,7 +483,8 @@ py::dict motionDict(const MotionResult<double>& r)
 PYBIND11_MODULE(fcl_rs, m)
 {
   using namespace fcl_rs;
-  m.doc() = "RS bounding-volume trees for FCL: collision and distance queries, batches on every core, robots.";
+  m.doc() = "RS bounding-volume trees for FCL: collision and distance queries, batches on every core, robots, robots "
+            "among obstacles.";
   m.attr("__version__") = FCL_RS_VERSION;
 
   py::class_<Geometry, GeometryPtr>(m, "Geometry", "Any collision geometry: an RS mesh or an FCL shape.");
@@ -971,7 +974,8 @@ PYBIND11_MODULE(fcl_rs, m)
             if (minimum_distance)
             {
               out["minimum_distance"] = r.minimum_distance;
-              out["nearest_pair"] = r.nearest_pair.link.empty() ? py::object(py::none()) : py::object(pairTuple(r.nearest_pair));
+              out["nearest_pair"] =
+                  r.nearest_pair.link.empty() ? py::object(py::none()) : py::object(pairTuple(r.nearest_pair));
               py::array_t<double> points({2, 3});
               for (int i = 0; i < 2; ++i)
                 for (int k = 0; k < 3; ++k) points.mutable_at(i, k) = r.nearest_points[i][k];
@@ -1056,7 +1060,8 @@ PYBIND11_MODULE(fcl_rs, m)
             threadsOf(num_threads, api);
             const Eigen::Map<const Configurations<double>> from(a.data(), a.shape(0), a.shape(1));
             const Eigen::Map<const Configurations<double>> to(b.data(), b.shape(0), b.shape(1));
-            MotionBatchResult<double> result = e.reading([&] { return motionBatch(e.env, from, to, request, {num_threads}); });
+            MotionBatchResult<double> result =
+                e.reading([&] { return motionBatch(e.env, from, to, request, {num_threads}); });
             const py::ssize_t n = py::ssize_t(result.colliding.size());
             py::dict out;
             out["colliding"] = handOver<std::uint8_t, bool>(std::move(result.colliding), {n});
