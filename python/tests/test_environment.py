@@ -6,6 +6,7 @@ import os
 import runpy
 import sys
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -383,7 +384,9 @@ def test_edits_wait_for_batches_in_other_threads(environment, rng):
     worker.start()
     for _ in range(30):
         env.add_shape("slab", fcl_rs.Box(3, 3, 0.1), at(0, 0, 1.5))
+        time.sleep(0.0005)  # lets the worker start batches between edits
         env.remove("slab")
+        time.sleep(0.0005)
     stop.set()
     worker.join()
     assert answers and all(np.array_equal(a, without) or np.array_equal(a, with_slab) for a in answers)
