@@ -2,9 +2,9 @@
 # ctest (readme_commands): runs README.md's commands. Each is first found verbatim in README.md, then run as shown
 # with build/ standing for BUILD_DIR and written files going to BUILD_DIR/readme_commands; long benchmarks get a
 # smaller workload appended (fewer poses, frames or meshes, one timed pass), placeholders (MESH, PREFIX) a real value.
-# Run elsewhere: the C++ and Python quick starts (example_quickstart, python: README shows those files verbatim),
-# the find_package and pkg-config lines (find_package), the packaging command (core_alone), fcl_rs_selfcheck on a
-# robot (selfcheck_panda) and scripts/test.sh itself (CI: .ci/run).
+# Run elsewhere: the C++ and Python quick starts and the Python environment example (example_quickstart, python:
+# README shows those files verbatim), the find_package and pkg-config lines (find_package), the packaging command
+# (core_alone), fcl_rs_selfcheck on a robot (selfcheck_panda) and scripts/test.sh itself (CI: .ci/run).
 # Usage: tests/readme_commands.sh SOURCE_DIR BUILD_DIR
 set -euo pipefail
 root="$1" build="$2"
