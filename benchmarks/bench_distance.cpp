@@ -34,8 +34,13 @@ namespace {
 
 using namespace fcl_rs::bench;
 
-constexpr double kMinTimedSeconds = 0.2;  // per timed measurement; short passes are repeated
-constexpr int kMinPasses = 3;
+/// How long each timed measurement runs: passes repeat until both minimums are met.
+struct Timing
+{
+  double min_seconds = 0.2;
+  int min_passes = 3;
+};
+Timing g_timing;  ///< --quick: one pass (a smoke run)
 
 /// What every timed pass is measured with: the thread's CPU time unless --wall-clock (a busy machine
 /// disturbs CPU time far less than wall time).
@@ -82,6 +87,8 @@ void addOptions(CLI::App& app, Options& opt)
   app.add_option("--seed", opt.seed, "random seed")->capture_default_str();
   app.add_flag("--wall-clock", [](std::int64_t) { g_clock = TimeSource::kWall; },
                "time with steady_clock instead of the thread's CPU time");
+  app.add_flag("--quick", [](std::int64_t) { g_timing = Timing{0, 1}; },
+               "one timed pass per measurement (a smoke run: the times are not comparable)");
   app.add_flag("--compare-pairs", opt.compare_pairs, "distance table over fcl_rs_compare's pairs");
   app.add_option("--shell-min", opt.shell_min, "nearest centre distance, in units of r1 + r2")->capture_default_str();
   app.add_option("--shell-max", opt.shell_max, "farthest centre distance, in units of r1 + r2")->capture_default_str();
@@ -242,7 +249,7 @@ void benchDistance(const std::string& what, const Mesh& mesh1, const Mesh& mesh2
                       [&] {
                         for (std::size_t i = 0; i < n; ++i) sink += row.query(i);
                       },
-                      kMinTimedSeconds, kMinPasses, g_clock) /
+                      g_timing.min_seconds, g_timing.min_passes, g_clock) /
                   double(n);
     if (!std::isfinite(sink)) std::printf("(non-finite distance)\n");
     if (row.count)
@@ -403,8 +410,9 @@ void refitRow(const char* bv_name, const NamedMesh& nm, const Options& opt, Csv&
     };
     bad[k] = run(true);
     // Timed: the frames only (the initial build is timed apart by subtracting a build-only run).
-    const double with_build = bestSeconds([&] { run(false); }, kMinTimedSeconds, kMinPasses, g_clock);
-    const double build_only = bestSeconds([&] { model = fcl_rs::buildModel<BV>(nm.mesh); }, kMinTimedSeconds, kMinPasses, g_clock);
+    const double with_build = bestSeconds([&] { run(false); }, g_timing.min_seconds, g_timing.min_passes, g_clock);
+    const double build_only = bestSeconds([&] { model = fcl_rs::buildModel<BV>(nm.mesh); }, g_timing.min_seconds,
+                                          g_timing.min_passes, g_clock);
     ms[k] = 1e3 * std::max(0.0, with_build - build_only) / opt.refits;
   }
   std::printf("  %-7s", bv_name);

@@ -1,4 +1,5 @@
-"""RS bounding-volume trees for FCL: collision and distance queries, batches on every core, robots.
+"""RS bounding-volume trees for FCL: collision and distance queries, batches on every core, robots, robots among
+obstacles (environments: self and world collision, clearance, exact motion checks).
 
 Poses are 4x4 homogeneous matrices: rigid transforms (finite, rotation orthonormal within 256 eps and proper,
 last row [0, 0, 0, 1]). Batch calls take (N, 4, 4) poses or (N, dof) configurations and return numpy arrays;
@@ -9,8 +10,11 @@ tolerance, 256 float32 eps, then made exactly orthonormal in double); triangle i
 argument is checked: a bad value, shape or dtype raises ValueError naming the function and the argument (for
 example "fcl_rs.collide: pose_a is not a rigid transform: entry (0, 3) is nan"), a wrong Python type TypeError.
 Unreadable files raise RuntimeError with the library's message.
+
+Environment queries, motion checks and their batches run without the GIL; obstacle edits and OcTree.insert wait
+for those running in other threads, so no query sees half an edit.
 """
-from typing import Dict, List, Tuple, Union
+from typing import Dict, List, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -138,3 +142,94 @@ class Robot:
                     num_threads: int = 0) -> Dict[str, Union[npt.NDArray, List[npt.NDArray]]]:
         """Self-collision of every row of q (N, dof): 'colliding' (N,) bool; with pairs=True 'pairs', a list of
         (k, 2) link index arrays; with minimum_distance=True 'minimum_distance' (N,)."""
+
+# (link, other, other_is_link): a link and another link (a self pair) or an obstacle, by name.
+BodyPair = Tuple[str, str, bool]
+
+class OcTree:
+    """An octomap (occupancy octree) for Environment.add_octree (absent when FCL was built without octomap)."""
+    def __init__(self, points: ArrayLike, resolution: float) -> None:
+        """A map with cells of edge `resolution` (positive, finite) in which every (N, 3) point's cell is occupied
+        (one observation each). Points beyond octomap's reach (32768 cells from the origin per axis) raise
+        ValueError."""
+    @staticmethod
+    def from_file(path: str) -> OcTree:
+        """Reads .bt (binary: occupied or free per cell) or .ot (an OcTree) files; ValueError for another
+        extension, RuntimeError for an unreadable file."""
+    def save(self, path: str) -> None:
+        """Writes .bt (each cell occupied or free by the map's threshold) or .ot (full occupancy)."""
+    def insert(self, points: ArrayLike, sensor_origin: Optional[ArrayLike] = None) -> None:
+        """Adds (N, 3) points as occupied observations; with a sensor_origin (3,), as a scan from there (the cells
+        along each ray observed free, the end cells occupied). Environments holding the map read its cells again
+        before their next query."""
+    @property
+    def resolution(self) -> float: ...
+    @property
+    def num_occupied(self) -> int:
+        """The number of occupied leaf cells (FCL's occupancy threshold)."""
+    def occupied_cells(self) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """The occupied leaf cells collision and distance queries meet: centres (K, 3) and edge lengths (K,), in
+        the map's frame."""
+
+class Environment:
+    """A URDF robot (SRDF disabled pairs optional) among named obstacles in its root frame: self and world
+    collision per configuration, minimum distance, and exact motion checks of straight joint-space segments."""
+    def __init__(self, urdf: str, srdf: str = "", bv: str = "RS") -> None:
+        """bv: RS, OBBRSS, OBB or RSS (OBB: no minimum distance and no motion checks); link and obstacle meshes
+        are trees of this type. KDOP18 raises ValueError."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def bv(self) -> str: ...
+    @property
+    def dof(self) -> int: ...
+    @property
+    def link_names(self) -> List[str]: ...
+    @property
+    def joint_names(self) -> List[str]:
+        """The joint of each configuration variable."""
+    @property
+    def lower(self) -> npt.NDArray[np.float64]:
+        """Lower joint limits ([-pi, pi] for continuous joints)."""
+    @property
+    def upper(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def obstacle_names(self) -> List[str]:
+        """In insertion order."""
+    def __contains__(self, name: str) -> bool: ...
+    # Names are unique and non-empty; an unknown name raises ValueError.
+    def add_shape(self, name: str, shape: Geometry, pose: ArrayLike) -> None:
+        """Adds a Box, Sphere, Ellipsoid, Capsule, Cylinder or Cone at a 4x4 pose in the robot's root frame."""
+    def add_mesh(self, name: str, vertices: ArrayLike, triangles: ArrayLike, pose: ArrayLike) -> None:
+        """Adds a mesh ((V, 3) vertices, (F, 3) integer indices) at a 4x4 pose, built as a tree of the
+        environment's BV type."""
+    def add_octree(self, name: str, octree: OcTree, pose: ArrayLike) -> None:
+        """Adds an OcTree at a 4x4 pose; the environment shares the map and follows its inserts."""
+    def set_pose(self, name: str, pose: ArrayLike) -> None: ...
+    def pose(self, name: str) -> npt.NDArray[np.float64]: ...
+    def remove(self, name: str) -> None: ...
+    def query(self, q: ArrayLike, pairs: bool = False,
+              minimum_distance: bool = False) -> Dict[str, Union[bool, float, List[BodyPair], Optional[BodyPair],
+                                                                 npt.NDArray[np.float64]]]:
+        """Self and world collision at q (dof,): 'colliding'; with pairs=True 'pairs', every colliding BodyPair
+        (self pairs first, then links in model order x obstacles in insertion order); with minimum_distance=True
+        'minimum_distance' (exact; 0 when colliding, inf with nothing to measure), 'nearest_pair' (None when
+        colliding) and 'nearest_points' (2, 3), link first, root frame."""
+    def check_batch(self, q: ArrayLike, pairs: bool = False, minimum_distance: bool = False,
+                    num_threads: int = 0) -> Dict[str, Union[npt.NDArray, List[List[BodyPair]]]]:
+        """query for every row of q (N, dof): 'colliding' (N,) bool; with pairs=True 'pairs', a list of lists of
+        BodyPair; with minimum_distance=True 'minimum_distance' (N,)."""
+    def check_motion(self, start: ArrayLike, end: ArrayLike, earliest: bool = True,
+                     tolerance: float = 1e-3) -> Dict[str, Union[bool, float, int]]:
+        """Every configuration of the straight segment start -> end, exactly: 'colliding'; when colliding
+        'parameter' (a colliding configuration's, in [0, 1]) and 'free_until' (everything below is free; with
+        earliest=True within tolerance, in (0, 1], of 'parameter'; earliest=False stops at any colliding
+        configuration); 'configurations_checked', 'distance_queries'."""
+    def check_path(self, waypoints: ArrayLike, earliest: bool = True,
+                   tolerance: float = 1e-3) -> Dict[str, Union[bool, float, int]]:
+        """check_motion through the rows of waypoints (K, dof), K >= 1; 'parameter' and 'free_until' are a
+        segment index plus the parameter within it."""
+    def check_motion_batch(self, starts: ArrayLike, ends: ArrayLike, earliest: bool = True, tolerance: float = 1e-3,
+                           num_threads: int = 0) -> Dict[str, npt.NDArray]:
+        """check_motion for every row pair of starts and ends (N, dof): 'colliding' (N,) bool, 'parameter' (0 for a
+        free segment) and 'free_until' (1 for a free segment) (N,)."""

@@ -1,11 +1,16 @@
-// The Python module fcl_rs (pybind11): RS meshes, FCL shapes, collide/distance, batches and robots, in double.
+// The Python module fcl_rs (pybind11): RS meshes, FCL shapes, collide/distance, batches, robots and robots among
+// obstacles (environments, octomaps), in double.
 // Arrays come in and go out as numpy arrays; batch inputs are read in place and outputs are handed over
 // without a copy. C++ exceptions keep their messages (invalid_argument -> ValueError, runtime_error ->
 // RuntimeError).
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <random>
+#include <shared_mutex>
 #include <string>
 #include <vector>
 
@@ -15,6 +20,10 @@
 #include <fcl/geometry/shape/cylinder.h>
 #include <fcl/geometry/shape/ellipsoid.h>
 #include <fcl/geometry/shape/sphere.h>
+#if FCL_HAVE_OCTOMAP
+#include <fcl/geometry/octree/octree.h>
+#include <octomap/OcTree.h>
+#endif
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -26,6 +35,7 @@
 #include "fcl_rs/distance.h"
 #include "fcl_rs/mesh/load_mesh.h"
 #include "fcl_rs/robot.h"
+#include "fcl_rs/robot/batch_environment.h"
 #include "fcl_rs/robot/batch_self_collision.h"
 #include "fcl_rs/validate.h"
 #include "fcl_rs/version.h"
@@ -181,15 +191,49 @@ py::array_t<double> vector3(const fcl::Vector3d& v)
 /// The BV type of a Robot: every type SelfCollision::query (behind all of Robot's checks) accepts. KDOP18 is
 /// refused here rather than at the first check: its trees are refitted in place in the world frame per check,
 /// so they cannot be shared by the batch's threads or Python threads.
-BVType robotBVType(const std::string& name)
+BVType robotBVType(const std::string& name, const std::string& api)
 {
   const BVType bv = parseBVType(name);
   if (bv != BVType::kKDOP18) return bv;
   std::string names;
   for (BVType other : kRobotBVTypes)
     if (other != BVType::kKDOP18) names += std::string(names.empty() ? "" : ", ") + bvTypeName(other);
-  throw std::invalid_argument("fcl_rs.Robot: bv 'KDOP18' is not supported (its trees are refitted in place per "
+  throw std::invalid_argument(api + ": bv 'KDOP18' is not supported (its trees are refitted in place per "
                               "check, so checks could not share them across threads); use one of " + names);
+}
+
+/// A triangle mesh from (V, 3) finite real vertices and (F, 3) integer vertex indices in [0, V).
+TriangleMesh<double> meshOf(const py::handle& vertices_arg, const py::handle& triangles_arg, const std::string& api)
+{
+  const py::array vertices_array = realArray(vertices_arg, api, "vertices");
+  requireShape(vertices_array, {-1, 3}, api, "vertices", "(V, 3)");
+  const Doubles vertices = doublesOf(vertices_array);
+  requireFinite(vertices, api, "vertices");
+  py::array triangles_array = py::array::ensure(triangles_arg);
+  const char kind = triangles_array ? triangles_array.dtype().kind() : 'O';
+  if (kind != 'i' && kind != 'u')
+    badArgument(api, "triangles", "must be an array of integers (vertex indices), got " +
+                                      (triangles_array ? "dtype " + std::string(py::str(triangles_array.dtype()))
+                                                       : std::string("no array")));
+  requireShape(triangles_array, {-1, 3}, api, "triangles", "(F, 3)");
+  // Unsigned 64-bit indices beyond int64's range are out of range anyway: they wrap to negatives.
+  const auto triangles =
+      py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(triangles_array);
+  TriangleMesh<double> mesh;
+  const py::ssize_t num_vertices = vertices.shape(0);
+  for (py::ssize_t i = 0; i < num_vertices; ++i)
+    mesh.vertices.emplace_back(vertices.at(i, 0), vertices.at(i, 1), vertices.at(i, 2));
+  for (py::ssize_t i = 0; i < triangles.shape(0); ++i)
+  {
+    for (int k = 0; k < 3; ++k)
+      if (triangles.at(i, k) < 0 || triangles.at(i, k) >= num_vertices)
+        badArgument(api, "triangles[" + std::to_string(i) + ", " + std::to_string(k) + "]",
+                    "is " + std::to_string(triangles.at(i, k)) + ", not a vertex index in [0, " +
+                        std::to_string(num_vertices) + ")");
+    mesh.triangles.emplace_back(std::size_t(triangles.at(i, 0)), std::size_t(triangles.at(i, 1)),
+                                std::size_t(triangles.at(i, 2)));
+  }
+  return mesh;
 }
 
 /// A robot loaded from URDF (and SRDF), with its self-collision checker.
@@ -197,25 +241,240 @@ struct Robot
 {
   Robot(const std::string& urdf, const std::string& srdf, const std::string& bv)
     : model(loadUrdf(urdf)),
-      checker(model, robotBVType(bv), srdf.empty() ? std::vector<DisabledCollision>{}
-                                                   : loadDisabledCollisions(srdf, model))
+      checker(model, robotBVType(bv, "fcl_rs.Robot"),
+              srdf.empty() ? std::vector<DisabledCollision>{} : loadDisabledCollisions(srdf, model))
   {
   }
   RobotModel model;
   SelfCollision<double> checker;
 };
 
-/// A configuration (dof,) or configurations (N, dof) of a robot with `dof` variables: real numbers, finite.
-Doubles configurationsOf(const py::handle& obj, int dof, bool batch, const std::string& api)
+/// A configuration (dof,) or configurations (rows, dof) of a robot with `dof` variables (rows -1: any number):
+/// real numbers, finite.
+Doubles configurationsOf(const py::handle& obj, int dof, bool batch, const std::string& api,
+                         const std::string& argument = "q", py::ssize_t rows = -1)
 {
-  const py::array a = realArray(obj, api, "q");
+  const py::array a = realArray(obj, api, argument);
   if (batch)
-    requireShape(a, {-1, dof}, api, "q", "(N, " + std::to_string(dof) + ")");
+    requireShape(a, {rows, dof}, api, argument,
+                 "(" + (rows < 0 ? std::string("N") : std::to_string(rows)) + ", " + std::to_string(dof) + ")");
   else
-    requireShape(a, {dof}, api, "q", "(" + std::to_string(dof) + ",)");
+    requireShape(a, {dof}, api, argument, "(" + std::to_string(dof) + ",)");
   Doubles values = doublesOf(a);
-  requireFinite(values, api, "q");
+  requireFinite(values, api, argument);
   return values;
+}
+
+
+// ---- Environments: obstacles and octree maps, which Python may change while queries run without the GIL. ----
+
+/// The lock between what runs without the GIL and reads obstacles and maps in place (environment queries, motion
+/// checks and their batches: shared) and the edits of obstacles and maps (which keep the GIL: exclusive). An edit
+/// from one Python thread waits for the queries running in others, and no query reads half an edit. One lock for
+/// the module: edits are short and rare next to queries.
+std::shared_mutex& worldLock()
+{
+  static std::shared_mutex lock;
+  return lock;
+}
+
+using WorldEdit = std::unique_lock<std::shared_mutex>;
+
+py::array_t<double> poseArray(const fcl::Transform3d& tf)
+{
+  py::array_t<double> out({4, 4});
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) out.mutable_at(i, j) = tf.matrix()(i, j);
+  return out;
+}
+
+#if FCL_HAVE_OCTOMAP
+/// An octomap, the fcl::OcTree that environments hold (sharing the map) and a count of the map's changes, by which
+/// an environment knows to read the occupied cells again before its next query.
+struct OcTreeMap
+{
+  explicit OcTreeMap(std::shared_ptr<octomap::OcTree> m)
+    : geometry(std::make_shared<fcl::OcTreed>(m)), map(std::move(m))
+  {
+  }
+  std::shared_ptr<fcl::OcTreed> geometry;
+  std::shared_ptr<octomap::OcTree> map;
+  std::uint64_t version = 0;
+};
+
+/// A point inside the map's reach: octomap's 16-bit keys cover [-32768, 32768) cells about the origin on each axis,
+/// and octomap drops a point beyond them without a word.
+octomap::point3d pointIn(const octomap::OcTree& map, const double* xyz, const std::string& api,
+                         const std::string& argument)
+{
+  const double reach = map.getResolution() * 32768;
+  const octomap::point3d p{float(xyz[0]), float(xyz[1]), float(xyz[2])};
+  octomap::OcTreeKey key;
+  // Far points first: octomap converts the scaled coordinate to int before its range check.
+  const bool near = std::abs(xyz[0]) < 2 * reach && std::abs(xyz[1]) < 2 * reach && std::abs(xyz[2]) < 2 * reach;
+  if (!near || !map.coordToKeyChecked(p, key))
+  {
+    badArgument(api, argument,
+                "(" + std::to_string(xyz[0]) + ", " + std::to_string(xyz[1]) + ", " + std::to_string(xyz[2]) +
+                    ") is outside the map: octomap reaches [-" + std::to_string(reach) + ", " + std::to_string(reach) +
+                    ") on each axis at resolution " + std::to_string(map.getResolution()));
+  }
+  return p;
+}
+
+/// (N, 3) finite points inside the map's reach.
+octomap::Pointcloud pointsIn(const octomap::OcTree& map, const py::handle& obj, const std::string& api,
+                             const std::string& argument)
+{
+  const py::array a = realArray(obj, api, argument);
+  requireShape(a, {-1, 3}, api, argument, "(N, 3)");
+  const Doubles values = doublesOf(a);
+  requireFinite(values, api, argument);
+  octomap::Pointcloud points;
+  points.reserve(std::size_t(a.shape(0)));
+  for (py::ssize_t i = 0; i < a.shape(0); ++i)
+    points.push_back(pointIn(map, values.data() + 3 * i, api, argument + "[" + std::to_string(i) + "]"));
+  return points;
+}
+
+/// The leaf cells FCL counts as occupied (fcl::OcTree::isNodeOccupied, the map's threshold), as octomap iterates
+/// them: their centres and edge lengths. The inner nodes above an occupied leaf are occupied too (octomap keeps
+/// each the largest occupancy of its children), so these are the cells FCL's traversals reach.
+void occupiedCells(const OcTreeMap& o, std::vector<double>& centres, std::vector<double>& sizes)
+{
+  for (auto it = o.map->begin_leafs(), end = o.map->end_leafs(); it != end; ++it)
+    if (o.geometry->isNodeOccupied(&*it))
+    {
+      centres.insert(centres.end(), {it.getX(), it.getY(), it.getZ()});
+      sizes.push_back(it.getSize());
+    }
+}
+
+/// The file's octomap format from its name: ".bt" (binary, occupied or free per cell) or ".ot" (full occupancy).
+bool binaryOcTreeFile(const std::string& path, const std::string& api)
+{
+  const auto endsWith = [&path](const char* suffix) {
+    const std::string s(suffix);
+    return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0;
+  };
+  if (endsWith(".bt")) return true;
+  if (endsWith(".ot")) return false;
+  badArgument(api, "path '" + path + "'", "must end in .bt (binary octomap) or .ot (full octomap)");
+}
+#endif
+
+/// A robot loaded from URDF (and SRDF) among named obstacles.
+struct PyEnvironment
+{
+  PyEnvironment(const std::string& urdf, const std::string& srdf, const std::string& bv)
+    : model(loadUrdf(urdf)),
+      env(model, robotBVType(bv, "fcl_rs.Environment"),
+          srdf.empty() ? std::vector<DisabledCollision>{} : loadDisabledCollisions(srdf, model))
+  {
+  }
+  RobotModel model;
+  Environment<double> env;
+#if FCL_HAVE_OCTOMAP
+  /// The octree obstacles by name, each with the map version the environment last read.
+  std::map<std::string, std::pair<std::shared_ptr<OcTreeMap>, std::uint64_t>> octrees;
+#endif
+
+  bool mapsChanged() const
+  {
+#if FCL_HAVE_OCTOMAP
+    for (const auto& held : octrees)
+      if (held.second.second != held.second.first->version) return true;
+#endif
+    return false;
+  }
+
+  /// Runs `query` without the GIL, holding the world lock shared, after reading again the occupied cells of every
+  /// map changed since the environment last read it (again if a map changed between that and taking the lock).
+  template <typename Query>
+  auto reading(Query&& query)
+  {
+    for (;;)
+    {
+#if FCL_HAVE_OCTOMAP
+      if (mapsChanged())
+      {
+        const WorldEdit edit(worldLock());
+        for (auto& held : octrees)
+          if (held.second.second != held.second.first->version)
+          {
+            env.refreshOcTree(held.first);
+            held.second.second = held.second.first->version;
+          }
+      }
+#endif
+      py::gil_scoped_release release;
+      const std::shared_lock<std::shared_mutex> lock(worldLock());
+      if (!mapsChanged()) return query();
+    }
+  }
+};
+
+void requireNewName(const PyEnvironment& e, const std::string& name, const std::string& api)
+{
+  if (name.empty()) badArgument(api, "name", "must not be empty");
+  if (e.env.contains(name)) badArgument(api, "name '" + name + "'", "is taken (obstacle names are unique)");
+}
+
+void requireObstacle(const PyEnvironment& e, const std::string& name, const std::string& api)
+{
+  if (!e.env.contains(name)) badArgument(api, "name '" + name + "'", "names no obstacle");
+}
+
+int dofOf(const PyEnvironment& e)
+{
+  return e.env.kinematics().numVariables();
+}
+
+EnvironmentRequest environmentRequest(const PyEnvironment& e, bool pairs, bool minimum_distance, const std::string& api)
+{
+  if (minimum_distance && e.env.bvType() == BVType::kOBB)
+    badArgument(api, "minimum_distance", "needs a distance query, which FCL lacks for OBB trees (bv 'OBB'); use an "
+                                         "environment of bv RS, OBBRSS or RSS");
+  EnvironmentRequest request;
+  request.colliding_pairs = pairs;
+  request.minimum_distance = minimum_distance;
+  return request;
+}
+
+MotionRequest<double> motionRequest(const PyEnvironment& e, bool earliest, double tolerance, const std::string& api)
+{
+  if (e.env.bvType() == BVType::kOBB)
+    throw std::invalid_argument(api + ": motion checks need a distance query, which FCL lacks for OBB trees (bv "
+                                      "'OBB'); use an environment of bv RS, OBBRSS or RSS");
+  if (!(tolerance > 0 && tolerance <= 1))
+    badArgument(api, "tolerance", "must be in (0, 1] (a fraction of the segment), got " + std::to_string(tolerance));
+  MotionRequest<double> request;
+  request.earliest = earliest;
+  request.tolerance = tolerance;
+  return request;
+}
+
+py::tuple pairTuple(const BodyPair& p)
+{
+  return py::make_tuple(p.link, p.other, p.other_is_link);
+}
+
+py::list pairList(const std::vector<BodyPair>& pairs)
+{
+  py::list out;
+  for (const BodyPair& p : pairs) out.append(pairTuple(p));
+  return out;
+}
+
+py::dict motionDict(const MotionResult<double>& r)
+{
+  py::dict out;
+  out["colliding"] = r.colliding;
+  out["parameter"] = r.parameter;
+  out["free_until"] = r.free_until;
+  out["configurations_checked"] = r.configurations_checked;
+  out["distance_queries"] = r.distance_queries;
+  return out;
 }
 
 }  // namespace
@@ -224,44 +483,16 @@ Doubles configurationsOf(const py::handle& obj, int dof, bool batch, const std::
 PYBIND11_MODULE(fcl_rs, m)
 {
   using namespace fcl_rs;
-  m.doc() = "RS bounding-volume trees for FCL: collision and distance queries, batches on every core, robots.";
+  m.doc() = "RS bounding-volume trees for FCL: collision and distance queries, batches on every core, robots, robots "
+            "among obstacles.";
   m.attr("__version__") = FCL_RS_VERSION;
 
   py::class_<Geometry, GeometryPtr>(m, "Geometry", "Any collision geometry: an RS mesh or an FCL shape.");
 
   py::class_<fcl::BVHModel<RSd>, Geometry, std::shared_ptr<fcl::BVHModel<RSd>>>(
       m, "Mesh", "A triangle mesh with an RS bounding-volume tree (surface-area splits).")
-      .def(py::init([](const py::handle& vertices_arg, const py::handle& triangles_arg) {
-             const char* api = "fcl_rs.Mesh";
-             const py::array vertices_array = realArray(vertices_arg, api, "vertices");
-             requireShape(vertices_array, {-1, 3}, api, "vertices", "(V, 3)");
-             const Doubles vertices = doublesOf(vertices_array);
-             requireFinite(vertices, api, "vertices");
-             py::array triangles_array = py::array::ensure(triangles_arg);
-             const char kind = triangles_array ? triangles_array.dtype().kind() : 'O';
-             if (kind != 'i' && kind != 'u')
-               badArgument(api, "triangles", "must be an array of integers (vertex indices), got " +
-                                                 (triangles_array ? "dtype " + std::string(py::str(triangles_array.dtype()))
-                                                                  : std::string("no array")));
-             requireShape(triangles_array, {-1, 3}, api, "triangles", "(F, 3)");
-             // Unsigned 64-bit indices beyond int64's range are out of range anyway: they wrap to negatives.
-             const auto triangles =
-                 py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(triangles_array);
-             TriangleMesh<double> mesh;
-             const py::ssize_t num_vertices = vertices.shape(0);
-             for (py::ssize_t i = 0; i < num_vertices; ++i)
-               mesh.vertices.emplace_back(vertices.at(i, 0), vertices.at(i, 1), vertices.at(i, 2));
-             for (py::ssize_t i = 0; i < triangles.shape(0); ++i)
-             {
-               for (int k = 0; k < 3; ++k)
-                 if (triangles.at(i, k) < 0 || triangles.at(i, k) >= num_vertices)
-                   badArgument(api, "triangles[" + std::to_string(i) + ", " + std::to_string(k) + "]",
-                               "is " + std::to_string(triangles.at(i, k)) + ", not a vertex index in [0, " +
-                                   std::to_string(num_vertices) + ")");
-               mesh.triangles.emplace_back(std::size_t(triangles.at(i, 0)), std::size_t(triangles.at(i, 1)),
-                                           std::size_t(triangles.at(i, 2)));
-             }
-             return buildModel<RSd>(mesh);
+      .def(py::init([](const py::handle& vertices, const py::handle& triangles) {
+             return buildModel<RSd>(meshOf(vertices, triangles, "fcl_rs.Mesh"));
            }),
            py::arg("vertices"), py::arg("triangles"),
            "Builds the tree over (V, 3) vertices (float64, float32 or integers) and (F, 3) integer vertex indices.\n"
@@ -530,5 +761,317 @@ PYBIND11_MODULE(fcl_rs, m)
           py::arg("num_threads") = 0,
           "Self-collision of every row of q (N, dof), read in place. Returns a dict: 'colliding' (N,) bool; with\n"
           "pairs=True 'pairs', a list of (k, 2) link index arrays; with minimum_distance=True 'minimum_distance' (N,).\n"
+          "num_threads: 0 every core, 1 the calling thread only. Results do not depend on it.");
+
+#if FCL_HAVE_OCTOMAP
+  py::class_<OcTreeMap, std::shared_ptr<OcTreeMap>>(
+      m, "OcTree",
+      "An octomap (occupancy octree) for Environment.add_octree: from (N, 3) occupied points and a resolution, or\n"
+      "from a .bt/.ot file. insert() adds sensor data; environments holding the map read it again before their\n"
+      "next query.")
+      .def(py::init([](const py::handle& points, double resolution) {
+             const char* api = "fcl_rs.OcTree";
+             auto map = std::make_shared<octomap::OcTree>(sizeOf(resolution, api, "resolution"));
+             for (const octomap::point3d& p : pointsIn(*map, points, api, "points")) map->updateNode(p, true);
+             return std::make_shared<OcTreeMap>(std::move(map));
+           }),
+           py::arg("points"), py::arg("resolution"),
+           "A map with cells of edge `resolution` in which every (N, 3) point's cell is occupied (one observation\n"
+           "each, octomap's updateNode).")
+      .def_static(
+          "from_file",
+          [](const std::string& path) {
+            const char* api = "fcl_rs.OcTree.from_file";
+            std::shared_ptr<octomap::OcTree> map;
+            if (binaryOcTreeFile(path, api))
+            {
+              map = std::make_shared<octomap::OcTree>(0.1);  // readBinary sets the file's resolution
+              if (!map->readBinary(path)) throw std::runtime_error(std::string(api) + ": cannot read '" + path + "'");
+            }
+            else
+            {
+              std::unique_ptr<octomap::AbstractOcTree> tree(octomap::AbstractOcTree::read(path));
+              if (!tree) throw std::runtime_error(std::string(api) + ": cannot read '" + path + "'");
+              if (!dynamic_cast<octomap::OcTree*>(tree.get()))
+                throw std::runtime_error(std::string(api) + ": '" + path + "' holds a " + tree->getTreeType() +
+                                         ", not an OcTree");
+              map.reset(static_cast<octomap::OcTree*>(tree.release()));
+            }
+            return std::make_shared<OcTreeMap>(std::move(map));
+          },
+          py::arg("path"), "Reads an octomap file: .bt (binary: occupied or free per cell) or .ot (an OcTree).")
+      .def(
+          "save",
+          [](const OcTreeMap& o, const std::string& path) {
+            const char* api = "fcl_rs.OcTree.save";
+            const bool written = binaryOcTreeFile(path, api) ? o.map->writeBinaryConst(path) : o.map->write(path);
+            if (!written) throw std::runtime_error(std::string(api) + ": cannot write '" + path + "'");
+          },
+          py::arg("path"),
+          "Writes the map: .bt (binary, each cell occupied or free by the map's threshold) or .ot (full occupancy).")
+      .def(
+          "insert",
+          [](OcTreeMap& o, const py::handle& points, const py::handle& sensor_origin) {
+            const char* api = "fcl_rs.OcTree.insert";
+            const octomap::Pointcloud cloud = pointsIn(*o.map, points, api, "points");
+            std::optional<octomap::point3d> origin;
+            if (!sensor_origin.is_none())
+            {
+              const py::array a = realArray(sensor_origin, api, "sensor_origin");
+              requireShape(a, {3}, api, "sensor_origin", "(3,)");
+              const Doubles xyz = doublesOf(a);
+              requireFinite(xyz, api, "sensor_origin");
+              origin = pointIn(*o.map, xyz.data(), api, "sensor_origin");
+            }
+            const WorldEdit edit(worldLock());
+            if (origin)
+              o.map->insertPointCloud(cloud, *origin);
+            else
+              for (const octomap::point3d& p : cloud) o.map->updateNode(p, true);
+            ++o.version;
+          },
+          py::arg("points"), py::arg("sensor_origin") = py::none(),
+          "Adds (N, 3) points as occupied observations; with a sensor_origin (3,), as a scan from there\n"
+          "(octomap's insertPointCloud: the cells along each ray are observed free, the end cells occupied).\n"
+          "Environments holding the map read its cells again before their next query.")
+      .def_property_readonly("resolution", [](const OcTreeMap& o) { return o.map->getResolution(); })
+      .def_property_readonly(
+          "num_occupied",
+          [](const OcTreeMap& o) {
+            std::vector<double> centres, sizes;
+            occupiedCells(o, centres, sizes);
+            return sizes.size();
+          },
+          "the number of occupied leaf cells (FCL's occupancy threshold)")
+      .def(
+          "occupied_cells",
+          [](const OcTreeMap& o) {
+            std::vector<double> centres, sizes;
+            occupiedCells(o, centres, sizes);
+            const py::ssize_t n = py::ssize_t(sizes.size());
+            return py::make_tuple(handOver(std::move(centres), {n, py::ssize_t(3)}), handOver(std::move(sizes), {n}));
+          },
+          "The occupied leaf cells (the ones collision and distance queries meet): centres (K, 3) and edge\n"
+          "lengths (K,), in the map's frame.");
+#endif
+
+  py::class_<PyEnvironment>(
+      m, "Environment",
+      "A URDF robot (SRDF disabled pairs optional) among named obstacles in its root frame: self and world\n"
+      "collision per configuration, minimum distance, and exact motion checks of straight joint-space segments.")
+      .def(py::init<const std::string&, const std::string&, const std::string&>(), py::arg("urdf"),
+           py::arg("srdf") = "", py::arg("bv") = "RS",
+           "bv: RS, OBBRSS, OBB or RSS (OBB: no minimum distance and no motion checks); link and obstacle meshes\n"
+           "are trees of this type.")
+      .def_property_readonly("name", [](const PyEnvironment& e) { return e.model.name; })
+      .def_property_readonly("bv", [](const PyEnvironment& e) { return std::string(bvTypeName(e.env.bvType())); })
+      .def_property_readonly("dof", [](const PyEnvironment& e) { return dofOf(e); })
+      .def_property_readonly("link_names", [](const PyEnvironment& e) { return e.env.selfCollision().linkNames(); })
+      .def_property_readonly("joint_names", [](const PyEnvironment& e) {
+        std::vector<std::string> names;
+        for (int j : e.model.variable_joints) names.push_back(e.model.joints[std::size_t(j)].name);
+        return names;
+      }, "the joint of each configuration variable")
+      .def_property_readonly("lower", [](const PyEnvironment& e) { return fcl::VectorXd(e.env.kinematics().lower()); },
+                             "lower joint limits ([-pi, pi] for continuous joints)")
+      .def_property_readonly("upper", [](const PyEnvironment& e) { return fcl::VectorXd(e.env.kinematics().upper()); })
+      .def_property_readonly("obstacle_names", [](const PyEnvironment& e) { return e.env.obstacleNames(); },
+                             "in insertion order")
+      .def("__contains__", [](const PyEnvironment& e, const std::string& name) { return e.env.contains(name); },
+           py::arg("name"))
+      .def(
+          "add_shape",
+          [](PyEnvironment& e, const std::string& name, const GeometryPtr& shape, const py::handle& pose) {
+            const char* api = "fcl_rs.Environment.add_shape";
+            requireNewName(e, name, api);
+            switch (shape->getNodeType())
+            {
+              case fcl::GEOM_BOX:
+              case fcl::GEOM_SPHERE:
+              case fcl::GEOM_ELLIPSOID:
+              case fcl::GEOM_CAPSULE:
+              case fcl::GEOM_CYLINDER:
+              case fcl::GEOM_CONE: break;
+              default:
+                badArgument(api, "shape", "must be a Box, Sphere, Ellipsoid, Capsule, Cylinder or Cone (meshes go "
+                                          "through add_mesh, octomaps through add_octree)");
+            }
+            const fcl::Transform3d tf = poseOf(pose, api, "pose");
+            const WorldEdit edit(worldLock());
+            e.env.addShape(name, shape, tf);
+          },
+          py::arg("name"), py::arg("shape").none(false), py::arg("pose"),
+          "Adds a Box, Sphere, Ellipsoid, Capsule, Cylinder or Cone at a 4x4 pose in the robot's root frame.")
+      .def(
+          "add_mesh",
+          [](PyEnvironment& e, const std::string& name, const py::handle& vertices, const py::handle& triangles,
+             const py::handle& pose) {
+            const char* api = "fcl_rs.Environment.add_mesh";
+            requireNewName(e, name, api);
+            const TriangleMesh<double> mesh = meshOf(vertices, triangles, api);
+            const fcl::Transform3d tf = poseOf(pose, api, "pose");
+            const WorldEdit edit(worldLock());
+            e.env.addMesh(name, mesh, tf);
+          },
+          py::arg("name"), py::arg("vertices"), py::arg("triangles"), py::arg("pose"),
+          "Adds a mesh ((V, 3) vertices in its own frame, (F, 3) integer vertex indices) at a 4x4 pose, built once\n"
+          "as a tree of the environment's BV type.")
+#if FCL_HAVE_OCTOMAP
+      .def(
+          "add_octree",
+          [](PyEnvironment& e, const std::string& name, const std::shared_ptr<OcTreeMap>& octree,
+             const py::handle& pose) {
+            const char* api = "fcl_rs.Environment.add_octree";
+            requireNewName(e, name, api);
+            const fcl::Transform3d tf = poseOf(pose, api, "pose");
+            const WorldEdit edit(worldLock());
+            e.env.addOcTree(name, octree->geometry, tf);
+            e.octrees[name] = {octree, octree->version};
+          },
+          py::arg("name"), py::arg("octree").none(false), py::arg("pose"),
+          "Adds an OcTree at a 4x4 pose (its cells count as FCL's traversals count them). The environment shares\n"
+          "the map: after OcTree.insert it reads the occupied cells again before its next query.")
+#endif
+      .def(
+          "set_pose",
+          [](PyEnvironment& e, const std::string& name, const py::handle& pose) {
+            const char* api = "fcl_rs.Environment.set_pose";
+            requireObstacle(e, name, api);
+            const fcl::Transform3d tf = poseOf(pose, api, "pose");
+            const WorldEdit edit(worldLock());
+            e.env.setPose(name, tf);
+          },
+          py::arg("name"), py::arg("pose"), "Moves a named obstacle to a 4x4 pose.")
+      .def(
+          "pose",
+          [](const PyEnvironment& e, const std::string& name) {
+            requireObstacle(e, name, "fcl_rs.Environment.pose");
+            return poseArray(e.env.pose(name));
+          },
+          py::arg("name"), "A named obstacle's 4x4 pose.")
+      .def(
+          "remove",
+          [](PyEnvironment& e, const std::string& name) {
+            requireObstacle(e, name, "fcl_rs.Environment.remove");
+            const WorldEdit edit(worldLock());
+            e.env.remove(name);
+#if FCL_HAVE_OCTOMAP
+            e.octrees.erase(name);
+#endif
+          },
+          py::arg("name"), "Removes a named obstacle.")
+      .def(
+          "query",
+          [](PyEnvironment& e, const py::handle& q, bool pairs, bool minimum_distance) {
+            const char* api = "fcl_rs.Environment.query";
+            const Doubles values = configurationsOf(q, dofOf(e), false, api);
+            const EnvironmentRequest request = environmentRequest(e, pairs, minimum_distance, api);
+            const fcl::VectorXd qv = Eigen::Map<const fcl::VectorXd>(values.data(), values.size());
+            const EnvironmentResult<double> r = e.reading([&] { return e.env.query(qv, request); });
+            py::dict out;
+            out["colliding"] = r.colliding;
+            if (pairs) out["pairs"] = pairList(r.pairs);
+            if (minimum_distance)
+            {
+              out["minimum_distance"] = r.minimum_distance;
+              out["nearest_pair"] =
+                  r.nearest_pair.link.empty() ? py::object(py::none()) : py::object(pairTuple(r.nearest_pair));
+              py::array_t<double> points({2, 3});
+              for (int i = 0; i < 2; ++i)
+                for (int k = 0; k < 3; ++k) points.mutable_at(i, k) = r.nearest_points[i][k];
+              out["nearest_points"] = points;
+            }
+            return out;
+          },
+          py::arg("q"), py::arg("pairs").noconvert() = false, py::arg("minimum_distance").noconvert() = false,
+          "Self and world collision at q (dof,). Returns a dict: 'colliding'; with pairs=True 'pairs', every\n"
+          "colliding (link, other, other_is_link) (self pairs first, then links in model order x obstacles in\n"
+          "insertion order); with minimum_distance=True 'minimum_distance' (exact; 0 when colliding, inf with\n"
+          "nothing to measure), 'nearest_pair' (None when colliding) and 'nearest_points' (2, 3), link first, root\n"
+          "frame.")
+      .def(
+          "check_batch",
+          [](PyEnvironment& e, const py::handle& q, bool pairs, bool minimum_distance, int num_threads) {
+            const char* api = "fcl_rs.Environment.check_batch";
+            const Doubles values = configurationsOf(q, dofOf(e), true, api);
+            const EnvironmentRequest request = environmentRequest(e, pairs, minimum_distance, api);
+            threadsOf(num_threads, api);
+            const Eigen::Map<const Configurations<double>> rows(values.data(), values.shape(0), values.shape(1));
+            EnvironmentBatchResult<double> result =
+                e.reading([&] { return environmentBatch(e.env, rows, request, {num_threads}); });
+            const py::ssize_t n = py::ssize_t(result.colliding.size());
+            py::dict out;
+            out["colliding"] = handOver<std::uint8_t, bool>(std::move(result.colliding), {n});
+            if (minimum_distance) out["minimum_distance"] = handOver(std::move(result.minimum_distance), {n});
+            if (pairs)
+            {
+              py::list per_row;
+              for (const auto& p : result.pairs) per_row.append(pairList(p));
+              out["pairs"] = per_row;
+            }
+            return out;
+          },
+          py::arg("q"), py::arg("pairs").noconvert() = false, py::arg("minimum_distance").noconvert() = false,
+          py::arg("num_threads") = 0,
+          "query for every row of q (N, dof), read in place. Returns a dict: 'colliding' (N,) bool; with pairs=True\n"
+          "'pairs', a list of lists of (link, other, other_is_link); with minimum_distance=True 'minimum_distance'\n"
+          "(N,). num_threads: 0 every core, 1 the calling thread only. Results do not depend on it.")
+      .def(
+          "check_motion",
+          [](PyEnvironment& e, const py::handle& start, const py::handle& end, bool earliest, double tolerance) {
+            const char* api = "fcl_rs.Environment.check_motion";
+            const Doubles a = configurationsOf(start, dofOf(e), false, api, "start");
+            const Doubles b = configurationsOf(end, dofOf(e), false, api, "end");
+            const MotionRequest<double> request = motionRequest(e, earliest, tolerance, api);
+            const fcl::VectorXd from = Eigen::Map<const fcl::VectorXd>(a.data(), a.size());
+            const fcl::VectorXd to = Eigen::Map<const fcl::VectorXd>(b.data(), b.size());
+            return motionDict(e.reading([&] { return e.env.checkMotion(from, to, request); }));
+          },
+          py::arg("start"), py::arg("end"), py::arg("earliest").noconvert() = true, py::arg("tolerance") = 1e-3,
+          "Every configuration of the straight segment start -> end (dof,), exactly (no sampling resolution).\n"
+          "Returns a dict: 'colliding'; when colliding 'parameter' (a colliding configuration's parameter in\n"
+          "[0, 1]) and 'free_until' (every parameter below it is free; with earliest=True within tolerance of\n"
+          "'parameter'; earliest=False stops at any colliding configuration); 'configurations_checked' and\n"
+          "'distance_queries'.")
+      .def(
+          "check_path",
+          [](PyEnvironment& e, const py::handle& waypoints, bool earliest, double tolerance) {
+            const char* api = "fcl_rs.Environment.check_path";
+            const Doubles values = configurationsOf(waypoints, dofOf(e), true, api, "waypoints");
+            if (values.shape(0) == 0)
+              badArgument(api, "waypoints", "must have at least one row, got " + shapeText(values));
+            const MotionRequest<double> request = motionRequest(e, earliest, tolerance, api);
+            std::vector<fcl::VectorXd> points;
+            for (py::ssize_t i = 0; i < values.shape(0); ++i)
+              points.push_back(Eigen::Map<const fcl::VectorXd>(values.data() + i * values.shape(1), values.shape(1)));
+            return motionDict(e.reading([&] { return e.env.checkPath(points, request); }));
+          },
+          py::arg("waypoints"), py::arg("earliest").noconvert() = true, py::arg("tolerance") = 1e-3,
+          "check_motion along the straight segments through the rows of waypoints (K, dof), K >= 1; 'parameter' and\n"
+          "'free_until' are a segment index plus the parameter within that segment.")
+      .def(
+          "check_motion_batch",
+          [](PyEnvironment& e, const py::handle& starts, const py::handle& ends, bool earliest, double tolerance,
+             int num_threads) {
+            const char* api = "fcl_rs.Environment.check_motion_batch";
+            const Doubles a = configurationsOf(starts, dofOf(e), true, api, "starts");
+            const Doubles b = configurationsOf(ends, dofOf(e), true, api, "ends", a.shape(0));
+            const MotionRequest<double> request = motionRequest(e, earliest, tolerance, api);
+            threadsOf(num_threads, api);
+            const Eigen::Map<const Configurations<double>> from(a.data(), a.shape(0), a.shape(1));
+            const Eigen::Map<const Configurations<double>> to(b.data(), b.shape(0), b.shape(1));
+            MotionBatchResult<double> result =
+                e.reading([&] { return motionBatch(e.env, from, to, request, {num_threads}); });
+            const py::ssize_t n = py::ssize_t(result.colliding.size());
+            py::dict out;
+            out["colliding"] = handOver<std::uint8_t, bool>(std::move(result.colliding), {n});
+            out["parameter"] = handOver(std::move(result.parameter), {n});
+            out["free_until"] = handOver(std::move(result.free_until), {n});
+            return out;
+          },
+          py::arg("starts"), py::arg("ends"), py::arg("earliest").noconvert() = true, py::arg("tolerance") = 1e-3,
+          py::arg("num_threads") = 0,
+          "check_motion for every row pair of starts and ends (N, dof), read in place. Returns a dict of (N,)\n"
+          "arrays: 'colliding' (bool), 'parameter' (0 for a free segment), 'free_until' (1 for a free segment).\n"
           "num_threads: 0 every core, 1 the calling thread only. Results do not depend on it.");
 }

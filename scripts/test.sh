@@ -6,8 +6,8 @@
 #   --quick  only the Release build and CTest (build/), a few minutes
 #   Without --quick, then, each in its own build directory:
 #     build-asan  (clang, -O1) every GoogleTest case under AddressSanitizer + UndefinedBehaviorSanitizer, then
-#                 each libFuzzer target for FCL_RS_FUZZ_SECONDS s (default: the targets share 2 minutes) from seed
-#                 FCL_RS_FUZZ_SEED (default 1)
+#                 each libFuzzer target for FCL_RS_FUZZ_SECONDS s (default: 120 s divided by their number) from seed
+#                 FCL_RS_FUZZ_SEED (default 1), two targets at a time
 #     build-tsan  tests/test_concurrency and tests/test_batch under ThreadSanitizer (the batch on std::threads)
 #   Details and how to run one stage alone: docs/robustness.md.
 set -euo pipefail
@@ -58,8 +58,7 @@ asan="$root/build-asan"
 cmake -S "$root" -B "$asan" $(generator "$asan") -DCMAKE_CXX_COMPILER=clang++ "${sanitized[@]}" -DFCL_RS_FUZZ=ON \
   -DFCL_RS_SANITIZE=address,undefined > /dev/null
 mapfile -t tests < <(test_targets "$asan")
-# fuzz_api (fuzz/fuzz_api.cpp) is not among them yet: it still stops on FCL's own faults (docs/robustness.md).
-fuzz_targets=(fuzz_mesh_load fuzz_rs fuzz_triangle_intersection fuzz_mesh_shape)
+fuzz_targets=(fuzz_mesh_load fuzz_rs fuzz_triangle_intersection fuzz_mesh_shape fuzz_api)
 cmake --build "$asan" -j2 --target "${tests[@]}" "${fuzz_targets[@]}"
 # The GoogleTest cases (label unit); the other CTest tests run the examples and tools, not built here.
 (cd "$asan" && ctest --output-on-failure -j2 -L unit)
@@ -74,11 +73,14 @@ cmake -S "$root" -B "$tsan" $(generator "$tsan") "${sanitized[@]}" -DFCL_RS_SANI
 cmake --build "$tsan" -j2 --target test_concurrency test_batch
 (cd "$tsan" && ctest --output-on-failure -j2 -L unit -R '^(Concurrency|Batch)\.')
 
-# The targets share the stage's two minutes (two had 60 s each, three 40 s, four 30 s), so that CI's time stays the same.
+# Each target fuzzes for 120 s divided by their number (five: 24 s each), two at a time: libFuzzer runs one
+# process per target and CI has two cores, so the stage takes three rounds of 24 s.
 seconds="${FCL_RS_FUZZ_SECONDS:-$((120 / ${#fuzz_targets[@]}))}"
 seed="${FCL_RS_FUZZ_SEED:-1}"
-stage "libFuzzer: ${fuzz_targets[*]}, ${seconds} s each, seed ${seed} (build-asan/fuzz)"
-for target in "${fuzz_targets[@]}"; do
+stage "libFuzzer: ${fuzz_targets[*]}, ${seconds} s each, two at a time, seed ${seed} (build-asan/fuzz)"
+# fuzz_target NAME: fuzzes NAME for the stage's seconds; prints one summary line, or the failure and exits 1.
+fuzz_target() {
+  local target="$1" corpus log status frame input starved leaks deadline runs executions in_assimp i ext f
   corpus="$asan/fuzz/corpus/$target"
   mkdir -p "$corpus"
   [ -d "$root/fuzz/corpus/$target" ] && cp -n "$root/fuzz/corpus/$target"/* "$corpus/" 2> /dev/null || true
@@ -96,7 +98,6 @@ for target in "${fuzz_targets[@]}"; do
   # above) still trigger a full scan after every input. fuzz_rs keeps them.
   leaks=1
   [ "$target" = fuzz_mesh_load ] && leaks=0
-  log="$asan/fuzz/$target.log"
   # Runs until the time is used. A failure whose first stack frame in either assimp or fcl_rs is assimp's is one
   # of Debian assimp's own bugs: its input is kept in build-asan/fuzz/assimp/ and fuzzing resumes with the next
   # seed. Any other failure (fcl_rs code, a broken loader contract) stops CI; its input is in build-asan/fuzz/.
@@ -126,5 +127,18 @@ for target in "${fuzz_targets[@]}"; do
     fi
   done
   echo "   $target: $executions executions in $runs runs, $in_assimp inputs assimp failed on, corpus $(ls "$corpus" | wc -l) inputs"
+}
+for ((first = 0; first < ${#fuzz_targets[@]}; first += 2)); do
+  pids=() names=()
+  for target in "${fuzz_targets[@]:first:2}"; do
+    fuzz_target "$target" > "$asan/fuzz/$target.summary" 2>&1 &
+    pids+=($!) names+=("$target")
+  done
+  failed=0
+  for i in "${!pids[@]}"; do
+    wait "${pids[$i]}" || failed=1
+    cat "$asan/fuzz/${names[$i]}.summary"
+  done
+  [ "$failed" = 0 ] || exit 1
 done
 stage "all stages passed"

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # ctest (readme_commands): runs README.md's commands. Each is first found verbatim in README.md, then run as shown
 # with build/ standing for BUILD_DIR and written files going to BUILD_DIR/readme_commands; long benchmarks get a
-# smaller workload appended (fewer poses, frames or meshes), placeholders (MESH, PREFIX) a real value.
-# Run elsewhere: the C++ and Python quick starts (example_quickstart, python: README shows those files verbatim),
-# the find_package and pkg-config lines (find_package), the packaging command (core_alone), fcl_rs_selfcheck on a
-# robot (selfcheck_panda) and scripts/test.sh itself (CI: .ci/run).
+# smaller workload appended (fewer poses, frames or meshes, one timed pass), placeholders (MESH, PREFIX) a real value.
+# Run elsewhere: the C++ and Python quick starts and the Python environment example (example_quickstart, python:
+# README shows those files verbatim), the find_package and pkg-config lines (find_package), the packaging command
+# (core_alone), fcl_rs_selfcheck on a robot (selfcheck_panda) and scripts/test.sh itself (CI: .ci/run).
 # Usage: tests/readme_commands.sh SOURCE_DIR BUILD_DIR
 set -euo pipefail
 root="$1" build="$2"
@@ -45,9 +45,9 @@ if [ "$(cd "$build" && pwd -P)" = "$(cd "$root" && pwd -P)/build" ]; then
   shows "scripts/compare.sh MESH_FILE..." bash "$root/scripts/compare.sh" --queries 2 "$assimp/OBJ/box.obj" |
     grep "box.obj x box.obj"
 fi
-shows "build/benchmarks/fcl_rs_bench_distance --refits 1" "$build/benchmarks/fcl_rs_bench_distance" --refits 1 --queries 2 > /dev/null
+shows "build/benchmarks/fcl_rs_bench_distance --refits 1" "$build/benchmarks/fcl_rs_bench_distance" --refits 1 --queries 2 --quick > /dev/null
 shows "build/benchmarks/fcl_rs_tradeoff --queries 50 --max-triangles 20000 --csv docs/plots/tradeoff.csv --plot" \
-  "$build/benchmarks/fcl_rs_tradeoff" --quick --queries 2 --max-triangles 300 --csv tradeoff.csv --plot tradeoff.svg > /dev/null
+  "$build/benchmarks/fcl_rs_tradeoff" --quick --queries 2 --csv tradeoff.csv --plot tradeoff.svg "$assimp/OBJ/spider.obj" > /dev/null
 test -s tradeoff.csv && test -s tradeoff.svg
 shows "build/tools/fcl_rs_export --paper figures" "$build/tools/fcl_rs_export" --paper figures
 ls figures/*.png > /dev/null

@@ -360,8 +360,8 @@ TYPED_TEST(CollideMeshMesh, OracleGridFindsWhatTestingEveryPairFinds)
   const auto torus = fcl_rs::makeTorus<S>(1, S(0.3), 20, 10);
   auto rng = fcl_rs::test::seededRng("oracle grid");
   int colliding = 0;
-  // The sanitizer build checks the first 16 poses (two of each distance, four far off); CI's budget.
-  const int poses = fcl_rs::test::kSanitized ? 16 : 40;
+  // The sanitizer build checks the first 8 poses (one of each distance, two far off); CI's budget.
+  const int poses = fcl_rs::test::kSanitized ? 8 : 40;
   for (int pose = 0; pose < poses; ++pose)
   {
     fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(pose % 4 == 0 ? 1e4 : 1));
@@ -511,7 +511,9 @@ TYPED_TEST(CollideMeshMesh, BunnyCowMatchesOBBTree)
   REQUIRE_SHARED(bunny, S, "models/bunny_lowres.obj", S(4));
   REQUIRE_SHARED(cow, S, "models/cow.obj", S(1));
   const std::string what = "collide/vs-obb/bunny-cow/" + scalarName<S>();
-  checkAgainstOBB(what, bunny, cow, nearbyPoseList(what, bunny, cow, S(0.6), S(20), 200));
+  // The sanitizer build checks the first 60 poses (CI's budget).
+  const int poses = fcl_rs::test::kSanitized ? 60 : 200;
+  checkAgainstOBB(what, bunny, cow, nearbyPoseList(what, bunny, cow, S(0.6), S(20), poses));
 }
 
 TYPED_TEST(CollideMeshMesh, FclEnvRobMatchesOBBTree)

@@ -183,6 +183,141 @@ CHILD = textwrap.dedent(r'''
     expect("check_batch pairs=1", lambda: robot.check_batch(np.zeros((2, dof)), pairs=1), TypeError, "incompatible")
     expect("Robot(None)", lambda: fcl_rs.Robot(None), TypeError, "incompatible")
 
+    # Environment: every argument of every method, and the OBB environment's missing distances.
+    env = fcl_rs.Environment(urdf)
+    env.add_shape("box", box, I)
+    api = "fcl_rs.Environment"
+    expect("Environment KDOP18", lambda: fcl_rs.Environment(urdf, bv="KDOP18"), ValueError, f"{api}: bv 'KDOP18' is not supported")
+    expect("Environment AABB", lambda: fcl_rs.Environment(urdf, bv="AABB"), ValueError, "unknown BV type 'AABB'")
+    expect("Environment(None)", lambda: fcl_rs.Environment(None), TypeError, "incompatible")
+    expect("Environment missing urdf", lambda: fcl_rs.Environment(urdf + ".missing"), RuntimeError, "missing")
+    adds = [("add_shape", lambda n, p: env.add_shape(n, sphere, p)),
+            ("add_mesh", lambda n, p: env.add_mesh(n, vertices, triangles, p))]
+    if hasattr(fcl_rs, "OcTree"):
+        adds.append(("add_octree", lambda n, p: env.add_octree(n, fcl_rs.OcTree(vertices, 0.1), p)))
+    for method, call in adds:
+        expect(f"{method} name ''", lambda: call("", I), ValueError, f"{api}.{method}: name must not be empty")
+        expect(f"{method} name taken", lambda: call("box", I), ValueError, f"{api}.{method}: name 'box' is taken")
+        expect(f"{method} name None", lambda: call(None, I), TypeError, "incompatible")
+        for name, p, error, pattern in bad_poses():
+            expect(f"{method} pose {name}", lambda: call("new", p), error, f"{api}.{method}: pose .*{pattern}")
+    assert env.obstacle_names == ["box"], env.obstacle_names
+    for name, shape in [("mesh", mesh)] + ([("octree", fcl_rs.OcTree(vertices, 0.1))] if hasattr(fcl_rs, "OcTree") else []):
+        expect(f"add_shape shape={name}", lambda: env.add_shape("new", shape, I), ValueError if name == "mesh" else TypeError,
+               f"{api}.add_shape: shape must be a Box, Sphere" if name == "mesh" else "incompatible")
+    expect("add_shape shape=None", lambda: env.add_shape("new", None, I), TypeError, "incompatible")
+    expect("add_mesh vertices nan", lambda: env.add_mesh("new", np.where(np.eye(4, 3) == 1, nan, vertices), triangles, I),
+           ValueError, rf"{api}.add_mesh: vertices\[0, 0\] is not finite")
+    expect("add_mesh vertices shape", lambda: env.add_mesh("new", vertices[:, :2], triangles, I), ValueError,
+           rf"{api}.add_mesh: vertices must have shape \(V, 3\)")
+    expect("add_mesh triangles float", lambda: env.add_mesh("new", vertices, triangles + 0.5, I), ValueError,
+           f"{api}.add_mesh: triangles must be an array of integers")
+    expect("add_mesh triangles range", lambda: env.add_mesh("new", vertices, triangles + 2, I), ValueError,
+           rf"{api}.add_mesh: triangles\[0, 2\] is 4")
+    expect("add_mesh empty", lambda: env.add_mesh("new", vertices, np.zeros((0, 3), dtype=int), I), ValueError, "empty mesh")
+    if hasattr(fcl_rs, "OcTree"):
+        expect("add_octree octree=None", lambda: env.add_octree("new", None, I), TypeError, "incompatible")
+        expect("add_octree octree=box", lambda: env.add_octree("new", box, I), TypeError, "incompatible")
+    for method, call in [("set_pose", lambda n: env.set_pose(n, I)), ("pose", env.pose), ("remove", env.remove)]:
+        expect(f"{method} unknown", lambda: call("nothing"), ValueError, f"{api}.{method}: name 'nothing' names no obstacle")
+        expect(f"{method} None", lambda: call(None), TypeError, "incompatible")
+    for name, p, error, pattern in bad_poses():
+        expect(f"set_pose pose {name}", lambda: env.set_pose("box", p), error, f"{api}.set_pose: pose .*{pattern}")
+    expect("contains None", lambda: None in env, TypeError, "incompatible")
+    assert env.obstacle_names == ["box"] and np.array_equal(env.pose("box"), I), "a refused edit changed the environment"
+
+    def bad_configurations(argument, single):
+        """(name, value, message pattern) of configurations `argument` refuses; (dof,) or (N, dof)."""
+        shape = (dof,) if single else (3, dof)
+        q = np.zeros(shape); q.flat[2] = nan
+        index = "2" if single else "0, 2"
+        yield "nan", q, rf"{argument}\[{index}\] is not finite: nan"
+        q = np.zeros(shape); q.flat[-1] = inf
+        yield "inf", q, rf"{argument}\[.*\] is not finite: inf"
+        wrong = (dof - 1,) if single else (3, dof + 1)
+        yield "shape", np.zeros(wrong), rf"{argument} must have shape"
+        yield "rank", np.zeros((1,) + shape), rf"{argument} must have shape"
+        yield "complex", np.zeros(shape, dtype=complex), f"{argument} must hold real numbers"
+        yield "None", None, f"{argument} must hold real numbers"
+        yield "strings", np.zeros(shape).astype(str), f"{argument} must hold real numbers"
+
+    Z, Z3 = np.zeros(dof), np.zeros((3, dof))
+    obb = fcl_rs.Environment(urdf, bv="OBB")
+    for name, q, pattern in bad_configurations("q", True):
+        expect(f"query q {name}", lambda: env.query(q), ValueError, f"{api}.query: {pattern}")
+    for name, q, pattern in bad_configurations("q", False):
+        expect(f"check_batch q {name}", lambda: env.check_batch(q), ValueError, f"{api}.check_batch: {pattern}")
+    for name, q, pattern in bad_configurations("start", True):
+        expect(f"check_motion start {name}", lambda: env.check_motion(q, Z), ValueError, f"{api}.check_motion: {pattern}")
+    for name, q, pattern in bad_configurations("end", True):
+        expect(f"check_motion end {name}", lambda: env.check_motion(Z, q), ValueError, f"{api}.check_motion: {pattern}")
+    for name, q, pattern in bad_configurations("waypoints", False):
+        expect(f"check_path waypoints {name}", lambda: env.check_path(q), ValueError, f"{api}.check_path: {pattern}")
+    for name, q, pattern in bad_configurations("starts", False):
+        expect(f"check_motion_batch starts {name}", lambda: env.check_motion_batch(q, Z3), ValueError, f"{api}.check_motion_batch: {pattern}")
+    for name, q, pattern in bad_configurations("ends", False):
+        expect(f"check_motion_batch ends {name}", lambda: env.check_motion_batch(Z3, q), ValueError, f"{api}.check_motion_batch: {pattern}")
+    expect("check_path no waypoints", lambda: env.check_path(np.zeros((0, dof))), ValueError,
+           rf"{api}.check_path: waypoints must have at least one row, got \(0, {dof}\)")
+    expect("check_motion_batch rows", lambda: env.check_motion_batch(Z3, Z3[:2]), ValueError,
+           rf"{api}.check_motion_batch: ends must have shape \(3, {dof}\), got \(2, {dof}\)")
+    for method, call in [("check_motion", lambda **k: env.check_motion(Z, Z, **k)),
+                         ("check_path", lambda **k: env.check_path(Z3, **k)),
+                         ("check_motion_batch", lambda **k: env.check_motion_batch(Z3, Z3, **k))]:
+        for v in (0.0, -1.0, 1.5, nan, inf):
+            expect(f"{method} tolerance={v}", lambda: call(tolerance=v), ValueError, f"{api}.{method}: tolerance must be in \\(0, 1\\]")
+        expect(f"{method} tolerance='a'", lambda: call(tolerance="a"), TypeError, "incompatible")
+        expect(f"{method} earliest=1", lambda: call(earliest=1), TypeError, "incompatible")
+    for method, call in [("check_batch", lambda **k: env.check_batch(Z3, **k)),
+                         ("check_motion_batch", lambda **k: env.check_motion_batch(Z3, Z3, **k))]:
+        expect(f"{method} num_threads=-1", lambda: call(num_threads=-1), ValueError, f"{api}.{method}: num_threads must be >= 0")
+        expect(f"{method} num_threads=1.5", lambda: call(num_threads=1.5), TypeError, "incompatible")
+    for method, call in [("query", lambda **k: env.query(Z, **k)), ("check_batch", lambda **k: env.check_batch(Z3, **k))]:
+        expect(f"{method} pairs=1", lambda: call(pairs=1), TypeError, "incompatible")
+        expect(f"{method} minimum_distance=1", lambda: call(minimum_distance=1), TypeError, "incompatible")
+    expect("OBB query minimum_distance", lambda: obb.query(Z, minimum_distance=True), ValueError,
+           f"{api}.query: minimum_distance needs a distance query, which FCL lacks for OBB trees")
+    expect("OBB check_batch minimum_distance", lambda: obb.check_batch(Z3, minimum_distance=True), ValueError,
+           f"{api}.check_batch: minimum_distance needs a distance query")
+    expect("OBB check_motion", lambda: obb.check_motion(Z, Z), ValueError, f"{api}.check_motion: motion checks need a distance query")
+    expect("OBB check_path", lambda: obb.check_path(Z3), ValueError, f"{api}.check_path: motion checks need")
+    expect("OBB check_motion_batch", lambda: obb.check_motion_batch(Z3, Z3), ValueError, f"{api}.check_motion_batch: motion checks need")
+
+    if hasattr(fcl_rs, "OcTree"):
+        points = np.zeros((4, 3))
+        for name, v, pattern in [
+                ("nan", np.where(np.eye(4, 3) == 1, nan, points), r"points\[0, 0\] is not finite: nan"),
+                ("shape (N, 2)", points[:, :2], r"points must have shape \(N, 3\), got \(4, 2\)"),
+                ("shape (12,)", points.ravel(), r"points must have shape \(N, 3\)"),
+                ("complex", points.astype(complex), "points must hold real numbers"),
+                ("None", None, "points must hold real numbers"),
+                ("far", points + [[0, 0, 0], [0, 0, 0], [0, 4000.0, 0], [0, 0, 0]], r"points\[2\] \(0.0+, 4000.0+, 0.0+\) is outside the map"),
+                ("very far", points + [[1e300, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0]], r"points\[0\] .* is outside the map"),
+                ("edge", points + [[0, 0, 0], [0, 0, 3276.8], [0, 0, 0], [0, 0, 0]], r"points\[1\] .* is outside the map")]:
+            expect(f"OcTree points {name}", lambda: fcl_rs.OcTree(v, 0.1), ValueError, f"fcl_rs.OcTree: {pattern}")
+            octree = fcl_rs.OcTree(vertices, 0.1)
+            expect(f"OcTree.insert points {name}", lambda: octree.insert(v), ValueError, f"fcl_rs.OcTree.insert: {pattern}")
+            assert octree.num_occupied == fcl_rs.OcTree(vertices, 0.1).num_occupied, "a refused insert changed the map"
+        for v in (0.0, -0.1, nan, inf):
+            expect(f"OcTree resolution={v}", lambda: fcl_rs.OcTree(points, v), ValueError,
+                   "fcl_rs.OcTree: resolution must be positive and finite")
+        expect("OcTree resolution='a'", lambda: fcl_rs.OcTree(points, "a"), TypeError, "incompatible")
+        for name, origin, pattern in [("shape (2,)", [0, 0], r"sensor_origin must have shape \(3,\), got \(2,\)"),
+                                      ("nan", [0, nan, 0], r"sensor_origin\[1\] is not finite"),
+                                      ("far", [0, 0, 1e4], r"sensor_origin \(.*\) is outside the map"),
+                                      ("strings", ["0", "0", "0"], "sensor_origin must hold real numbers")]:
+            expect(f"OcTree.insert sensor_origin {name}", lambda: octree.insert(points, sensor_origin=origin), ValueError,
+                   f"fcl_rs.OcTree.insert: {pattern}")
+        for method, call in [("from_file", fcl_rs.OcTree.from_file), ("save", octree.save)]:
+            expect(f"OcTree.{method} extension", lambda: call("/tmp/map.txt"), ValueError,
+                   rf"fcl_rs.OcTree.{method}: path '/tmp/map.txt' must end in .bt \(binary octomap\) or .ot")
+            expect(f"OcTree.{method} None", lambda: call(None), TypeError, "incompatible")
+        for ext in ("bt", "ot"):
+            expect(f"OcTree.from_file missing .{ext}", lambda: fcl_rs.OcTree.from_file(f"/nonexistent/map.{ext}"),
+                   RuntimeError, f"fcl_rs.OcTree.from_file: cannot read '/nonexistent/map.{ext}'")
+            expect(f"OcTree.save unwritable .{ext}", lambda: octree.save(f"/nonexistent/map.{ext}"),
+                   RuntimeError, f"fcl_rs.OcTree.save: cannot write '/nonexistent/map.{ext}'")
+
     print("\n".join(failures))
     sys.exit(1 if failures else 0)
 ''')
@@ -194,7 +329,7 @@ def test_every_public_function_refuses_bad_input(chain_urdf):
     cases = [line for line in child.stdout.splitlines() if line.startswith("case ")]
     assert child.returncode >= 0, f"the child crashed (signal {-child.returncode}) in {cases[-1] if cases else 'setup'}"
     assert child.returncode == 0, child.stdout[child.stdout.rfind("case "):] + child.stderr
-    assert len(cases) > 400, len(cases)
+    assert len(cases) > 700, len(cases)
 
 
 def test_float32_and_integer_arrays_are_converted(rng):
