@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fcl_rs/distance.h"
 #include "fcl_rs/robot.h"
 #include "test_util.h"
 
@@ -484,6 +485,63 @@ TYPED_TEST(SelfCheck, Ur5AllBVTypesAgree)
   const RobotModel* ur5 = sharedRobot("ur5");
   if (!ur5) FCL_RS_MISSING_SHARED_DATA("robots/ur5");
   checkAllBVTypesAgree<TypeParam>(*ur5, sharedSrdf(*ur5), 400, 5);
+}
+
+/// query's minimum distance equals the smallest fcl_rs::distance over every element pair of every checked link
+/// pair (the search skips and orders pairs by bounds; the distances it measures must give the same minimum), and
+/// is 0 in self-collision; at seeded configurations, with RS (volume and ball bounds) and OBBRSS (balls only).
+template <typename S>
+void checkMinimumDistanceIsBruteForce(const RobotModel& robot, const std::vector<DisabledCollision>& disabled,
+                                      int configs, bool some_colliding)
+{
+  for (BVType bv : {BVType::kRS, BVType::kOBBRSS})
+  {
+    SCOPED_TRACE(robot.name + " " + bvTypeName(bv));
+    const SelfCollision<S> checker(robot, bv, disabled);
+    auto rng = test::seededRng("MinimumDistance " + robot.name);
+    SelfCheckRequest request;
+    request.minimum_distance = true;
+    int colliding = 0;
+    for (int c = 0; c < configs; ++c)
+    {
+      const fcl::VectorX<S> q = checker.kinematics().randomConfiguration(rng);
+      const auto poses = checker.kinematics().linkPoses(q);
+      S brute = std::numeric_limits<S>::infinity();
+      for (const LinkPair& p : checker.pairs())
+        for (const LinkElement<S>& ea : checker.linkElements(p.first))
+          for (const LinkElement<S>& eb : checker.linkElements(p.second))
+          {
+            fcl::DistanceResult<S> result;
+            brute = std::min(brute, fcl_rs::distance(ea.geometry, poses[p.first] * ea.origin, eb.geometry,
+                                                     poses[p.second] * eb.origin, fcl::DistanceRequest<S>(), result));
+          }
+      const SelfCheckResult<S> result = checker.query(q, request);
+      colliding += result.colliding;
+      if (result.colliding)
+      {
+        // Touching triangles measure 0 up to rounding (FCL's OBBRSS distance gave 9e-322 here).
+        EXPECT_EQ(result.minimum_distance, 0) << "configuration " << c;
+        EXPECT_LT(brute, S(1e-5)) << "configuration " << c;
+      }
+      else
+        EXPECT_EQ(result.minimum_distance, brute) << "configuration " << c;
+    }
+    EXPECT_LT(colliding, configs);
+    if (some_colliding) EXPECT_GT(colliding, 0);
+  }
+}
+
+TYPED_TEST(SelfCheck, TestRobotMinimumDistanceIsBruteForce)
+{
+  const RobotModel robot = loadUrdf(writeTestbot());
+  checkMinimumDistanceIsBruteForce<TypeParam>(robot, {}, 60, /*some_colliding=*/true);
+}
+
+TYPED_TEST(SelfCheck, PandaMinimumDistanceIsBruteForce)
+{
+  const RobotModel* panda = sharedRobot("panda");
+  if (!panda) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  checkMinimumDistanceIsBruteForce<TypeParam>(*panda, sharedSrdf(*panda), 20, /*some_colliding=*/false);
 }
 
 /// Every check refuses a non-finite configuration and checkPoses a pose that is not rigid, for every BV type,

@@ -75,10 +75,11 @@ struct LinkSphere
 /// link's elements also share one RS volume, tested after the spheres and before any element query, and a
 /// shape is tested against the mesh's root volume before its traversal is set up. A first-contact check
 /// (inCollision, query without colliding_pairs) tests the pair that collided last first.
-/// A minimum-distance query measures pairs in order of a lower bound on their distance (the spheres' gap, with
-/// RS the link volumes' distance) and stops when the bound reaches the best distance so far; each measurement
-/// starts at that best, so its traversal skips what cannot beat it. Exact distances between nearby links still
-/// cost far more than a collision check (fcl_rs_bench_selfcheck's us/min-dist column, docs/robots.md).
+/// A minimum-distance query measures element pairs best first by a lower bound on their distance, tightened only
+/// for the candidate that is nearest so far (link spheres; with RS the link volumes; per element pair the
+/// elements' balls and, with RS, volumes), and stops when the smallest bound reaches the best distance so far;
+/// each measurement starts at that best, so its traversal skips what cannot beat it. Exact distances between
+/// nearby links still cost far more than a collision check: about 60x on the Panda (docs/robots.md).
 ///
 /// How each BV type is queried (the fastest path FCL offers for it):
 /// * RS, OBBRSS, OBB, RSS: mesh-mesh in the links' own frames through collideWithStats (the relative

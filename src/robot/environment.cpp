@@ -108,7 +108,9 @@ S bodiesDistance(const Body<S>& a, const Tf<S>& ta, const Body<S>& b, const Tf<S
   for (const LinkElement<S>& ea : a.elements)
     for (const LinkElement<S>& eb : b.elements)
     {
+      // Started at the bound, the traversal prunes every node pair that cannot beat it.
       fcl::DistanceResult<S> result;
+      result.min_distance = bound;
       const S d = std::max(S(0), fcl_rs::distance(ea.geometry, Tf<S>(ta * ea.origin), eb.geometry,
                                                   Tf<S>(tb * eb.origin), request, result));
       if (d >= bound) continue;
@@ -444,33 +446,44 @@ struct Environment<S>::Impl
     return result;
   }
 
-  /// The smallest distance over the self pairs and link x obstacle pairs; a pair whose balls (or link ball and
-  /// obstacle box) are farther apart than the best so far cannot lower it (fixed order, so the result is
-  /// deterministic).
+  /// The smallest distance over the self pairs and link x obstacle pairs. The pairs go in order of a lower bound
+  /// on their distance (the balls' gap, or for an obstacle the larger of that and the link ball's gap to the
+  /// obstacle's own box): the nearest pairs set a small minimum early, each measurement starts at the best so far
+  /// (bodiesDistance), and once a bound reaches it no later pair can lower it. The order depends on the
+  /// configuration only, so the result does too.
   void minimumDistance(const std::vector<Tf<S>>& poses, const std::vector<WorldSphere<S>>& spheres,
                        EnvironmentResult<S>& result) const
   {
+    struct Candidate
+    {
+      S bound;
+      int first, second;  ///< a self pair's links, or a link and an obstacle's index
+      bool self;
+      bool operator<(const Candidate& other) const { return bound < other.bound; }
+    };
+    std::vector<Candidate> order;
+    for (const LinkPair& p : self.pairs())
+      order.push_back({sphereGap(spheres[p.first], spheres[p.second]), p.first, p.second, true});
+    for (int link : geometric_links)
+      for (int o = 0; o < int(obstacles.size()); ++o)
+        if (!obstacles[o].body.elements.empty())
+          order.push_back({std::max(sphereGap(spheres[link], obstacles[o].sphere), boxGap(spheres[link], obstacles[o])),
+                           link, o, false});
+    std::stable_sort(order.begin(), order.end());
     S best = std::numeric_limits<S>::infinity();
     fcl::Vector3<S> points[2];
-    const auto consider = [&](const Body<S>& a, const Tf<S>& ta, const Body<S>& b, const Tf<S>& tb, S gap,
-                              const BodyPair& pair) {
-      if (gap >= best) return;
-      const S d = bodiesDistance(a, ta, b, tb, best, points);
-      if (d >= best) return;
+    for (const Candidate& c : order)
+    {
+      if (c.bound >= best) break;
+      const Body<S>& other = c.self ? links[c.second] : obstacles[c.second].body;
+      const Tf<S>& other_pose = c.self ? poses[c.second] : obstacles[c.second].pose;
+      const S d = bodiesDistance(links[c.first], poses[c.first], other, other_pose, best, points);
+      if (d >= best) continue;
       best = d;
-      result.nearest_pair = pair;
+      result.nearest_pair = c.self ? selfPair({c.first, c.second}) : obstaclePair(c.first, c.second);
       result.nearest_points[0] = points[0];
       result.nearest_points[1] = points[1];
-    };
-    for (const LinkPair& p : self.pairs())
-      consider(links[p.first], poses[p.first], links[p.second], poses[p.second],
-               sphereGap(spheres[p.first], spheres[p.second]), selfPair(p));
-    for (int link : geometric_links)
-      for (std::size_t o = 0; o < obstacles.size(); ++o)
-        if (!obstacles[o].body.elements.empty())
-          consider(links[link], poses[link], obstacles[o].body, obstacles[o].pose,
-                   std::max(sphereGap(spheres[link], obstacles[o].sphere), boxGap(spheres[link], obstacles[o])),
-                   obstaclePair(link, int(o)));
+    }
     result.minimum_distance = best;
   }
 

@@ -322,6 +322,16 @@ template <typename S>
 struct SelfCollision<S>::Impl
 {
   using Shape = LinkShape<S>;
+  /// One collision element of a link as the minimum-distance search bounds it: a ball and an RS volume about it
+  /// in the link frame.
+  struct Element
+  {
+    const fcl::CollisionGeometry<S>* geometry = nullptr;  ///< the mesh tree (in the checker's BV type) or a shape
+    Tf<S> origin = Tf<S>::Identity();                     ///< in the link frame
+    fcl::Vector3<S> center = fcl::Vector3<S>::Zero();
+    S radius = 0;
+    RS<S> bound;
+  };
   struct Link
   {
     bool has_mesh = false;
@@ -329,6 +339,7 @@ struct SelfCollision<S>::Impl
     fcl::Vector3<S> center = fcl::Vector3<S>::Zero();  ///< bounding sphere in the link frame
     S radius = 0;
     RS<S> bound;  ///< every element in one RS volume, in the link frame (RS checks test it after the spheres)
+    std::vector<Element> elements;  ///< the mesh first, then the shapes
   };
 
   /// A link's bounding sphere in the root frame, its radius grown by a rounding pad.
@@ -354,16 +365,20 @@ struct SelfCollision<S>::Impl
   {
     p.spheres.resize(links.size());
     for (std::size_t i = 0; i < links.size(); ++i)
-    {
-      const fcl::Vector3<S> centre = p.poses[i] * links[i].center;
-      p.spheres[i] = {centre, links[i].radius + S(1e-5) * (links[i].radius + centre.norm())};
-    }
+      p.spheres[i] = placeSphere(p.poses[i], links[i].center, links[i].radius);
   }
 
-  /// Distance between the links' padded bounding spheres: never more than the geometries'.
-  static S sphereGap(const Placement& p, int a, int b)
+  /// A ball of the link frame placed at the link's pose, padded as placeSpheres says.
+  static WorldSphere placeSphere(const Tf<S>& pose, const fcl::Vector3<S>& center, S radius)
   {
-    return (p.spheres[a].centre - p.spheres[b].centre).norm() - p.spheres[a].reach - p.spheres[b].reach;
+    const fcl::Vector3<S> centre = pose * center;
+    return {centre, radius + S(1e-5) * (radius + centre.norm())};
+  }
+
+  /// Distance between two padded balls: never more than the geometries' they hold.
+  static S sphereGap(const WorldSphere& a, const WorldSphere& b)
+  {
+    return (a.centre - b.centre).norm() - a.reach - b.reach;
   }
 
   /// sphereGap(p, a, b) > 0, without the square root.
@@ -383,16 +398,13 @@ struct SelfCollision<S>::Impl
     return overlap(R, T, links[a].bound, links[b].bound, kDefaultOverlapTest, worldOffsets(ta, tb));
   }
 
-  /// A lower bound on the distance between the links' RS volumes (Link::bound) at their poses.
-  S boundsDistance(const Placement& p, int a, int b) const
+  /// A lower bound on the distance between RS volumes a and b of the link frames posed by ta and tb.
+  static S boundsDistance(const Tf<S>& ta, const RS<S>& a, const Tf<S>& tb, const RS<S>& b)
   {
-    const Tf<S>& ta = p.poses[a];
-    const Tf<S>& tb = p.poses[b];
     const fcl::Matrix3<S> R = ta.linear().transpose() * tb.linear();
     const fcl::Vector3<S> T = ta.linear().transpose() * (tb.translation() - ta.translation());
     // The relative pose carries the world frame's rounding: a few ulps of the poses' offsets.
-    return distance(R, T, links[a].bound, links[b].bound) -
-           8 * std::numeric_limits<S>::epsilon() * worldOffsets(ta, tb);
+    return distance(R, T, a, b) - 8 * std::numeric_limits<S>::epsilon() * worldOffsets(ta, tb);
   }
 
   bool collides(const Placement& placement, int a, int b, QueryStats* stats) const
@@ -449,49 +461,94 @@ struct SelfCollision<S>::Impl
     return colliding;
   }
 
-  /// The smallest distance between any element of link a and any element of link b, when below `bound`.
-  S linkDistance(const std::vector<Tf<S>>& poses, int a, int b, S bound) const
+  /// A candidate of the minimum-distance search: a link pair, or one element pair of it, with a lower bound on
+  /// its distance and the tightest bound computed so far.
+  enum class Stage { kLinkSpheres, kLinkVolumes, kElementSpheres, kElementVolumes };
+  struct Candidate
   {
-    std::vector<std::pair<const fcl::CollisionGeometry<S>*, Tf<S>>> ea, eb;
-    const auto elements = [&](int link, auto& out) {
-      if (links[link].has_mesh) out.emplace_back(trees->localModel(link), poses[link]);
-      for (const Shape& s : links[link].shapes) out.emplace_back(s.geometry.get(), poses[link] * s.origin);
-    };
-    elements(a, ea);
-    elements(b, eb);
-    const fcl::DistanceRequest<S> request;
-    for (const auto& x : ea)
-      for (const auto& y : eb)
-      {
-        // Started at the best distance so far, the traversal prunes every node pair that cannot beat it.
-        fcl::DistanceResult<S> result;
-        result.min_distance = bound;
-        bound = std::min(bound, fcl_rs::distance(x.first, x.second, y.first, y.second, request, result));
-      }
-    return bound;
-  }
+    S bound;
+    int pair;  ///< index in pairs
+    int element_a, element_b;
+    Stage stage;
+  };
 
-  /// Minimum distance over the pair list of a collision-free configuration. The pairs go in order of their
-  /// spheres' gap, a lower bound on their distance: the nearest pairs set a small minimum early, and once a gap
-  /// reaches the minimum no later pair can lower it. The order depends on the configuration only, so the result
-  /// does too.
+  /// Minimum distance over the pair list of a collision-free configuration, best first: every link pair waits
+  /// with its spheres' gap, a lower bound on its distance. The candidate of smallest bound is tightened one
+  /// stage at a time (with RS the links' volumes, then per element pair the elements' balls and, with RS, their
+  /// volumes) and measured exactly once no bound is left to tighten; each measurement starts at the best distance
+  /// so far, so its traversal prunes what cannot beat it. Once the smallest bound waiting reaches the best
+  /// distance, no candidate can lower it. Only pairs whose bounds stay below the answer are measured, nearest
+  /// first, so the nearest pairs set a small minimum early. The order depends on the configuration only, so the
+  /// result does too.
   S minimumDistance(const Placement& placement) const
   {
-    std::vector<std::pair<S, int>> order(pairs.size());
-    for (std::size_t i = 0; i < pairs.size(); ++i)
-    {
-      const int a = pairs[i].first, b = pairs[i].second;
-      S gap = sphereGap(placement, a, b);
-      if (bv == BVType::kRS && gap < std::numeric_limits<S>::infinity())
-        gap = std::max(gap, boundsDistance(placement, a, b));  // tighter than the spheres
-      order[i] = {gap, int(i)};
-    }
-    std::sort(order.begin(), order.end());
+    const auto farther = [](const Candidate& x, const Candidate& y) { return x.bound > y.bound; };
+    std::vector<Candidate> waiting;  // a min-heap on bound
+    waiting.reserve(2 * pairs.size());
     S best = std::numeric_limits<S>::infinity();
-    for (const auto& [gap, i] : order)
+    const auto wait = [&](const Candidate& c) {
+      if (!(c.bound < best)) return;
+      waiting.push_back(c);
+      std::push_heap(waiting.begin(), waiting.end(), farther);
+    };
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      wait({sphereGap(placement.spheres[pairs[i].first], placement.spheres[pairs[i].second]), int(i), 0, 0,
+            Stage::kLinkSpheres});
+    const fcl::DistanceRequest<S> request;
+    while (!waiting.empty())
     {
-      if (gap >= best) break;
-      best = linkDistance(placement.poses, pairs[i].first, pairs[i].second, best);
+      std::pop_heap(waiting.begin(), waiting.end(), farther);
+      Candidate c = waiting.back();
+      waiting.pop_back();
+      if (!(c.bound < best)) break;  // nor can any candidate still waiting
+      // A candidate goes on while its bound stays the smallest, else it waits again.
+      bool done = false;
+      while (!done && c.bound < best && (waiting.empty() || !(waiting.front().bound < c.bound)))
+      {
+        const int a = pairs[c.pair].first, b = pairs[c.pair].second;
+        const Tf<S>& ta = placement.poses[a];
+        const Tf<S>& tb = placement.poses[b];
+        const Link& la = links[a];
+        const Link& lb = links[b];
+        if (c.stage == Stage::kLinkSpheres)
+        {
+          c.stage = Stage::kLinkVolumes;
+          if (bv == BVType::kRS) c.bound = std::max(c.bound, boundsDistance(ta, la.bound, tb, lb.bound));
+        }
+        else if (c.stage == Stage::kLinkVolumes)
+        {
+          // A link of one element: the link's bounds are its element's.
+          c.stage = Stage::kElementVolumes;
+          if (la.elements.size() == 1 && lb.elements.size() == 1) continue;
+          for (int i = 0; i < int(la.elements.size()); ++i)
+            for (int j = 0; j < int(lb.elements.size()); ++j)
+            {
+              const Element& ea = la.elements[i];
+              const Element& eb = lb.elements[j];
+              const S gap = sphereGap(placeSphere(ta, ea.center, ea.radius), placeSphere(tb, eb.center, eb.radius));
+              wait({std::max(c.bound, gap), c.pair, i, j, Stage::kElementSpheres});
+            }
+          done = true;
+        }
+        else if (c.stage == Stage::kElementSpheres)
+        {
+          c.stage = Stage::kElementVolumes;
+          if (bv == BVType::kRS)
+            c.bound = std::max(c.bound, boundsDistance(ta, la.elements[c.element_a].bound, tb,
+                                                       lb.elements[c.element_b].bound));
+        }
+        else
+        {
+          const Element& ea = la.elements[c.element_a];
+          const Element& eb = lb.elements[c.element_b];
+          fcl::DistanceResult<S> result;
+          result.min_distance = best;
+          best = std::min(best, fcl_rs::distance(ea.geometry, ta * ea.origin, eb.geometry, tb * eb.origin, request,
+                                                 result));
+          done = true;
+        }
+      }
+      if (!done) wait(c);
     }
     return best;
   }
@@ -530,6 +587,7 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
     // Bounding sphere (in double): centre of the geometry's box, radius to the farthest point.
     fcl::Vector3d lo = fcl::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (const auto& v : src.mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    const fcl::Vector3d mesh_lo = lo, mesh_hi = hi;
     for (const Primitive& p : src.primitives)
     {
       const double r = primitiveRadius(p);
@@ -545,15 +603,35 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       radius = std::max(radius, (p.origin.translation() - c).norm() + primitiveRadius(p));
     link.center = c.cast<S>();
     link.radius = S(radius * (1 + 1e-6));
-    if (link.has_mesh) link.bound = fitPoints(meshes[i].vertices.data(), int(meshes[i].vertices.size()));
+    if (link.has_mesh)
+    {
+      link.bound = fitPoints(meshes[i].vertices.data(), int(meshes[i].vertices.size()));
+      const fcl::Vector3d mesh_centre = 0.5 * (mesh_lo + mesh_hi);
+      double mesh_radius = 0;
+      for (const auto& v : src.mesh.vertices) mesh_radius = std::max(mesh_radius, (v - mesh_centre).norm());
+      typename Impl::Element mesh;
+      mesh.center = mesh_centre.cast<S>();
+      mesh.radius = S(mesh_radius * (1 + 1e-6));
+      mesh.bound = link.bound;
+      link.elements.push_back(mesh);  // its geometry, the tree, is set below
+    }
     for (std::size_t k = 0; k < link.shapes.size(); ++k)
     {
       const RS<S> placed = placeShapeRS(link.shapes[k].bv, link.shapes[k].origin);
       if (link.has_mesh || k > 0) link.bound += placed;
       else link.bound = placed;
+      typename Impl::Element shape;
+      shape.geometry = link.shapes[k].geometry.get();
+      shape.origin = link.shapes[k].origin;
+      shape.center = link.shapes[k].origin.translation();
+      shape.radius = S(primitiveRadius(src.primitives[k]) * (1 + 1e-6));
+      shape.bound = placed;
+      link.elements.push_back(shape);
     }
   }
   impl_->trees = makeTrees<S>(bv, meshes);
+  for (int i = 0; i < n; ++i)
+    if (impl_->links[i].has_mesh) impl_->links[i].elements.front().geometry = impl_->trees->localModel(i);
 
   std::set<LinkPair> skip;
   auto ordered = [](int a, int b) { return a < b ? LinkPair(a, b) : LinkPair(b, a); };
