@@ -495,3 +495,76 @@ TYPED_TEST(TriangleShape, DegenerateTrianglesFromTheFuzzer)
     EXPECT_EQ(tally.meeting, c.touching ? 1 : 0);
   }
 }
+
+/// A box as a Convex, posed like the mesh (its faces stay parallel to the mesh's coordinate planes): triangles
+/// parallel to a face, and triangles with one vertex above a face's interior. The closest pair is a vertex and the
+/// interior of a flat triangle, whose projection rounding can move off that triangle's flat box. First found by
+/// fuzz_mesh_shape (seed 5): a box of half side 2^-23 at 2^-12 from a triangle in the plane x = -2^-12.
+TYPED_TEST(TriangleShape, VertexAboveAFlatTriangleFromTheFuzzer)
+{
+  using S = TypeParam;
+  using V = fcl::Vector3<S>;
+  const auto convexBox = [](const V& h) {
+    auto vertices = std::make_shared<std::vector<V>>();
+    for (const Vec& c : boxVertices(h.template cast<double>())) vertices->push_back(c.template cast<S>());
+    auto faces = std::make_shared<std::vector<int>>(
+        std::vector<int>{4, 0, 2, 3, 1, 4, 4, 5, 7, 6, 4, 0, 1, 5, 4, 4, 2, 6, 7, 3, 4, 0, 4, 6, 2, 4, 1, 3, 7, 5});
+    return fcl::Convex<S>(vertices, 6, faces);
+  };
+  const auto boxRef = [](const V& h) {
+    const Vec hd = h.template cast<double>();
+    return Reference{[=](const ExactTriangle& a, const ExactPose& p) {
+                       return fcl_rs::test::exactPolytope(a, p, boxVertices(hd), boxBoundary());
+                     },
+                     [=](const Vec& n) { return Vec(signs(n).cwiseProduct(hd)); }, true};
+  };
+  // The fuzzer's case: both poses its rotation and translation (-2^-6 on each axis).
+  {
+    Eigen::Matrix3d rotation;
+    rotation << 0.69353487057875984, -0.33259093488347846, 0.63905606430471873, 0.63905606430471873,
+        0.69353487057875984, -0.33259093488347846, -0.33259093488347846, 0.63905606430471873, 0.69353487057875984;
+    fcl::Transform3<S> tf = fcl::Transform3<S>::Identity();
+    tf.linear() = rotation.cast<S>();
+    tf.translation() = V::Constant(S(-0x1p-6));
+    const V h = V::Constant(S(0x1p-23));
+    const S q = S(0x1p-12);
+    const V p[3] = {V(-q, S(0x1.79p-13), -q), V(-q, S(0x1.fp-13), S(0x1.fp-10)), V(-q, -q, -q)};
+    Tally tally;
+    checkTriangle<S>(convexBox(h), boxRef(h), p, tf, tf, false, tally);
+    EXPECT_EQ(tally.apart, 1);
+  }
+  // Seeded boxes and triangles, both poses the identity.
+  const std::string what = "triangle-shape/flat/" + fcl_rs::test::scalarName<S>();
+  auto rng = fcl_rs::test::seededRng(what);
+  std::uniform_real_distribution<double> u(0, 1);
+  const fcl::Transform3<S> identity = fcl::Transform3<S>::Identity();
+  Tally tally;
+  for (int i = 0; i < 40; ++i)
+  {
+    SCOPED_TRACE(what + " #" + std::to_string(i));
+    const V h(S(0.1 + u(rng)), S(0.1 + u(rng)), S(0.1 + u(rng)));
+    const int axis = i % 3, side = (i / 3) % 2 ? 1 : -1;
+    const int j = (axis + 1) % 3, k = (axis + 2) % 3;
+    V p[3];
+    if (i % 2)
+    {
+      // Parallel to the face: the box's face vertices project into the triangle's interior.
+      const S level = S(side) * (h[axis] + S(0.01 + u(rng)));
+      for (int v = 0; v < 3; ++v) p[v][axis] = level;
+      p[0][j] = -3 * h[j], p[0][k] = -3 * h[k];
+      p[1][j] = S(4) * h[j] * S(1 + u(rng)), p[1][k] = -3 * h[k];
+      p[2][j] = -3 * h[j], p[2][k] = S(4) * h[k] * S(1 + u(rng));
+    }
+    else
+    {
+      // One vertex above the face's interior, the other two farther out along the face's normal.
+      p[0][axis] = S(side) * (h[axis] + S(0.01 + u(rng)));
+      p[0][j] = S(u(rng) - 0.5) * h[j], p[0][k] = S(u(rng) - 0.5) * h[k];
+      p[1] = p[0], p[2] = p[0];
+      p[1][axis] += S(side) * S(0.5 + u(rng)), p[1][j] += S(0.3);
+      p[2][axis] += S(side) * S(0.5 + u(rng)), p[2][k] += S(0.3);
+    }
+    checkTriangle<S>(convexBox(h), boxRef(h), p, identity, identity, false, tally);
+  }
+  EXPECT_EQ(tally.apart, 40) << what;
+}

@@ -150,7 +150,11 @@ bool insideTriangle(const Vec3<W> v[3], const Vec3<W>& n, const Vec3<W>& x, W ma
 template <typename W>
 ClosestSoFar<W> triangleDistance(const Vec3<W> a[3], const Vec3<W> b[3], W stop)
 {
-  const W margin = std::sqrt(stop);
+  // insideTriangle's box must admit a vertex's projection that rounding moved off a triangle whose box is flat (a
+  // triangle parallel to a coordinate plane): the projection's few roundings of the largest coordinate.
+  W scale = 0;
+  for (int i = 0; i < 3; ++i) scale = std::max({scale, a[i].cwiseAbs().maxCoeff(), b[i].cwiseAbs().maxCoeff()});
+  const W margin = std::max(std::sqrt(stop), 16 * std::numeric_limits<W>::epsilon() * scale);
   ClosestSoFar<W> best;
   const Vec3<W> na = (a[1] - a[0]).cross(a[2] - a[0]), nb = (b[1] - b[0]).cross(b[2] - b[0]);
   const bool a_has_area = na.squaredNorm() > 0, b_has_area = nb.squaredNorm() > 0;

@@ -92,6 +92,18 @@ public:
     pair = Pair{0, addCell(octree_.getRoot(), box, cellShape((box.max_ - box.min_) / 2))};
     return true;
   }
+  /// The root pair of a pruned descent (children() with `pruned`), moved down by skipSingleSplits; false for an
+  /// empty octree or where `pruned` prunes a node on the way (the descent from the root would report nothing).
+  template <typename Pruned>
+  bool prunedRoot(Pair& pair, bool unknown_cells, const Pruned& pruned)
+  {
+    const OcTreeNode* node = octree_.getRoot();
+    if (!node) return false;
+    fcl::AABB<S> box = octree_.getRootBV();
+    if (!skipSingleSplits(0, node, box, unknown_cells, pruned)) return false;
+    pair = Pair{0, addCell(node, box, cellShape((box.max_ - box.min_) / 2))};
+    return true;
+  }
   Visit visit(const Pair& p) const
   {
     const BVNode& n1 = mesh_.getBV(p.b1);
@@ -126,10 +138,17 @@ public:
   int cellId(const OcTreeCell<S>& c) const { return int(c.node - octree_.getRoot()); }
 
   /// The children of the pair's mesh node (first) or cell, in FCL's order; a missing child of a cell is visited
-  /// as an unknown cell when `unknown_cells` (cost requested and the mesh not free), else skipped. With `prune`
-  /// (collision), a cell's children whose boxes miss the mesh node's principal box are left out before they are
-  /// made cells (boxesApart): most of a split's eight are, and a cell costs more than that test.
-  int children(const Visit& v, bool first, Pair* out, bool unknown_cells, bool prune)
+  /// as an unknown cell when `unknown_cells` (cost requested and the mesh not free), else skipped. With `pruned`
+  /// (collision: the policy's test of a cell's node, not of its box), a cell's children whose boxes miss the mesh
+  /// node's principal box are left out before they are made cells (boxesApart: most of a split's eight are, and a
+  /// cell costs more than that test), and each other child is moved down by skipSingleSplits.
+  /// The `pruned` of a descent without pruning (distance).
+  struct NothingPruned
+  {
+    bool operator()(const OcTreeNode*) const { return false; }
+  };
+  template <typename Pruned>
+  int children(const Visit& v, bool first, Pair* out, bool unknown_cells, const Pruned* pruned)
   {
     if (first)
     {
@@ -142,22 +161,39 @@ public:
     const fcl::AABB<S> box = cells_[std::size_t(v.cell)].box;
     const OcTreeNode* child_nodes[8];
     fcl::AABB<S> child_boxes[8];
-    fcl::Vector3<S> half = fcl::Vector3<S>::Zero();
+    bool moved[8];
+    fcl::Vector3<S> half = fcl::Vector3<S>::Zero();  // of the children not moved down
+    bool any_in_place = false;
     int n = 0;
     for (unsigned int i = 0; i < 8; ++i)
     {
       const bool exists = octree_.nodeChildExists(node, i);
       if (!exists && !unknown_cells) continue;
       fcl::computeChildBV(box, i, child_boxes[n]);
-      if (prune && boxesApart(v.b1, child_boxes[n])) continue;
       child_nodes[n] = exists ? octree_.getNodeChild(node, i) : nullptr;
-      half = half.cwiseMax((child_boxes[n].max_ - child_boxes[n].min_) / 2);
+      moved[n] = false;
+      if (pruned)
+      {
+        if (boxesApart(v.b1, child_boxes[n])) continue;
+        const OcTreeNode* reached = child_nodes[n];
+        if (reached && !skipSingleSplits(v.b1, child_nodes[n], child_boxes[n], unknown_cells, *pruned)) continue;
+        moved[n] = child_nodes[n] != reached;
+      }
+      if (!moved[n])
+      {
+        half = half.cwiseMax((child_boxes[n].max_ - child_boxes[n].min_) / 2);
+        any_in_place = true;
+      }
       ++n;
     }
-    if (n == 0) return 0;
-    // The children differ in size by rounding only: one shape, the largest, serves them all.
-    const CellShape& shape = cellShape(half);
-    for (int i = 0; i < n; ++i) out[i] = Pair{v.b1, addCell(child_nodes[i], child_boxes[i], shape)};
+    // The children differ in size by rounding only: one shape, the largest, serves them all; a child moved down
+    // has its own.
+    const CellShape* shape = any_in_place ? &cellShape(half) : nullptr;
+    for (int i = 0; i < n; ++i)
+    {
+      const CellShape& own = moved[i] ? cellShape((child_boxes[i].max_ - child_boxes[i].min_) / 2) : *shape;
+      out[i] = Pair{v.b1, addCell(child_nodes[i], child_boxes[i], own)};
+    }
     return n;
   }
 
@@ -188,6 +224,37 @@ private:
       return NodeBox{R_.transpose() * (bv.origin + A * box.c - T_), M.cwiseAbs() * box.h,
                      bv.origin.template lpNorm<1>() + T_.template lpNorm<1>(), box.reach()};
     });
+  }
+  /// Moves the cell (node, box), an existing node, down the octree as long as the descent would split it against
+  /// mesh node b (splitsFirst) and keep one child of it, an existing one (every other child, of those children()
+  /// counts, boxesApart from b), and `pruned` keeps every node it leaves. The pairs skipped are those the descent
+  /// would only have tested with overlaps(), which never prunes a pair that the leaf test reports, and the cell
+  /// reached is the one the descent would reach (the same box, by the same computeChildBV steps): the same pairs
+  /// report, in the same order. False where `pruned` prunes a node on the way (nothing below it reports).
+  template <typename Pruned>
+  bool skipSingleSplits(int b, const OcTreeNode*& node, fcl::AABB<S>& box, bool unknown_cells, const Pruned& pruned)
+  {
+    const BVNode& n1 = mesh_.getBV(b);
+    for (;;)
+    {
+      if (!octree_.nodeHasChildren(node) || (!isLeaf(n1) && n1.bv.size() > box.size())) return true;
+      int kept = -1, num_kept = 0;
+      fcl::AABB<S> kept_box, child_box;
+      for (unsigned int i = 0; i < 8 && num_kept < 2; ++i)
+      {
+        const bool exists = octree_.nodeChildExists(node, i);
+        if (!exists && !unknown_cells) continue;
+        fcl::computeChildBV(box, i, child_box);
+        if (boxesApart(b, child_box)) continue;
+        ++num_kept;
+        kept = exists ? int(i) : -1;
+        kept_box = child_box;
+      }
+      if (num_kept != 1 || kept < 0) return true;
+      if (pruned(node)) return false;
+      node = octree_.getNodeChild(node, unsigned(kept));
+      box = kept_box;
+    }
   }
   /// Whether the cell box `box` misses mesh node b's box along an axis of the octree's frame by more than the
   /// rounding bound of a pair test of the two (pairRoundingBound of the node's, the cell's and the leaf tolerance's
@@ -276,18 +343,18 @@ public:
   using Base = OcTreeMeshQuery<S, Solver, fcl::CollisionRequest<S>, fcl::CollisionResult<S>>;
   using typename Base::Pair;
   using typename Base::Visit;
+  using typename Base::OcTreeNode;
   using Base::Base;
 
+  /// The root pair (prunedRoot), or false when nothing can be reported.
+  bool root(Pair& pair)
+  {
+    return Base::prunedRoot(pair, unknownCells(), [this](const OcTreeNode* node) { return pruned(node); });
+  }
   bool nodeApart(const Visit& v) const
   {
     const OcTreeCell<S>& c = this->cell(v.cell);
-    if (c.node)
-    {
-      if (this->octree().isNodeFree(c.node) || this->mesh().isFree()) return true;
-      if ((this->octree().isNodeUncertain(c.node) || this->mesh().isUncertain()) && !this->request_.enable_cost)
-        return true;
-    }
-    return !this->overlaps(v.n1, c);
+    return (c.node && pruned(c.node)) || !this->overlaps(v.n1, c);
   }
   bool leafTest(const Visit& v)
   {
@@ -313,10 +380,21 @@ public:
   }
   int children(const Visit& v, bool first, Pair* out)
   {
-    return Base::children(v, first, out, this->request_.enable_cost && !this->mesh().isFree(), true);
+    const auto pruned_node = [this](const OcTreeNode* node) { return pruned(node); };
+    return Base::children(v, first, out, unknownCells(), &pruned_node);
   }
 
 private:
+  /// Whether a pair of the node and any mesh node is pruned by occupancy: the node or the mesh free, or either
+  /// uncertain while no cost is asked.
+  bool pruned(const OcTreeNode* node) const
+  {
+    if (this->octree().isNodeFree(node) || this->mesh().isFree()) return true;
+    return (this->octree().isNodeUncertain(node) || this->mesh().isUncertain()) && !this->request_.enable_cost;
+  }
+  /// Whether cells the octree does not store are visited (for their cost).
+  bool unknownCells() const { return this->request_.enable_cost && !this->mesh().isFree(); }
+
   /// The leaf test of mesh-shape queries (TriangleShapeLeaf::meets) of the cell's box at the octree's pose and
   /// the leaf's triangle, behind the triangle filter; contact (when given) receives FCL's contact, with position,
   /// normal and depth when `with_geometry` (shapeTriangleContact).
@@ -396,7 +474,10 @@ public:
     const S d = leaf.distance(this->triangle(v.n1).data(), on_triangle, on_cell);
     this->result_.update(d, &this->octree(), &this->mesh(), this->cellId(c), primitiveId(v.n1), on_cell, on_triangle);
   }
-  int children(const Visit& v, bool first, Pair* out) { return Base::children(v, first, out, false, false); }
+  int children(const Visit& v, bool first, Pair* out)
+  {
+    return Base::template children<typename Base::NothingPruned>(v, first, out, false, nullptr);
+  }
 };
 
 }  // namespace detail
