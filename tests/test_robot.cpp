@@ -524,10 +524,15 @@ void checkMinimumDistanceIsBruteForce(const RobotModel& robot, const std::vector
         EXPECT_LT(brute, S(1e-5)) << "configuration " << c;
       }
       else
+      {
         EXPECT_EQ(result.minimum_distance, brute) << "configuration " << c;
+      }
     }
     EXPECT_LT(colliding, configs);
-    if (some_colliding) EXPECT_GT(colliding, 0);
+    if (some_colliding)
+    {
+      EXPECT_GT(colliding, 0);
+    }
   }
 }
 
