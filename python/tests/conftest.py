@@ -52,3 +52,18 @@ def random_poses(rng, n, extent):
     poses[:, :3, 3] = rng.uniform(-extent, extent, size=(n, 3))
     poses[:, 3, 3] = 1
     return poses
+
+
+def torus(big=0.6, small=0.2, rings=16, sides=8):
+    """A torus about z: (vertices, triangles) arrays."""
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, rings, endpoint=False),
+                       np.linspace(0, 2 * np.pi, sides, endpoint=False), indexing="ij")
+    vertices = np.stack([(big + small * np.cos(v)) * np.cos(u), (big + small * np.cos(v)) * np.sin(u),
+                         small * np.sin(v)], axis=-1).reshape(-1, 3)
+    triangles = []
+    for i in range(rings):
+        for j in range(sides):
+            a, b = i * sides + j, ((i + 1) % rings) * sides + j
+            c, d = ((i + 1) % rings) * sides + (j + 1) % sides, i * sides + (j + 1) % sides
+            triangles += [[a, b, c], [a, c, d]]
+    return vertices, np.array(triangles)

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import fcl_rs
-from conftest import SOURCE_DIR, TIP_OBJ
+from conftest import SOURCE_DIR, TIP_OBJ, torus
 
 SHARED_DATA = os.environ.get("FCL_RS_SHARED_DATA_DIR") or os.path.join(SOURCE_DIR, "..", "shared", "data")
 
@@ -32,20 +32,6 @@ def rotation(axis, angle):
     k = axis / np.linalg.norm(axis)
     K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
     return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
-
-
-def torus(big=0.25, small=0.06, rings=12, sides=6):
-    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, rings, endpoint=False),
-                       np.linspace(0, 2 * np.pi, sides, endpoint=False), indexing="ij")
-    vertices = np.stack([(big + small * np.cos(v)) * np.cos(u), (big + small * np.cos(v)) * np.sin(u),
-                         small * np.sin(v)], axis=-1).reshape(-1, 3)
-    triangles = []
-    for i in range(rings):
-        for j in range(sides):
-            a, b = i * sides + j, ((i + 1) % rings) * sides + j
-            c, d = ((i + 1) % rings) * sides + (j + 1) % sides, i * sides + (j + 1) % sides
-            triangles += [[a, b, c], [a, c, d]]
-    return vertices, np.array(triangles)
 
 
 # The chain of conftest.CHAIN_URDF: link0 fixed, link i on a joint 0.42 above link i-1 about x (odd i) or y (even
@@ -76,17 +62,18 @@ SHAPES = [("wall", fcl_rs.Box(0.05, 1.2, 0.8), at(0.7, 0.2, 1.2)),
           ("pill", fcl_rs.Capsule(0.06, 0.5), at(-0.9, -0.3, 0.8, [0, 1, 0], 1.0)),
           ("cone", fcl_rs.Cone(0.2, 0.4), at(0.3, 1.0, 0.6)),
           ("egg", fcl_rs.Ellipsoid(0.2, 0.1, 0.15), at(0.0, 0.4, 2.4))]
+RING = torus(0.25, 0.06, 12, 6)
 RING_POSE = at(-0.4, -0.6, 1.9, [1, 1, 0], 0.7)
 
 
 def furnish(env):
     for name, shape, pose in SHAPES:
         env.add_shape(name, shape, pose)
-    env.add_mesh("ring", *torus(), RING_POSE)
+    env.add_mesh("ring", *RING, RING_POSE)
 
 
 def obstacle_geometry():
-    return [(name, shape, pose) for name, shape, pose in SHAPES] + [("ring", fcl_rs.Mesh(*torus()), RING_POSE)]
+    return [(name, shape, pose) for name, shape, pose in SHAPES] + [("ring", fcl_rs.Mesh(*RING), RING_POSE)]
 
 
 # FCL measures shapes (and mesh triangles against shapes) with libccd's iterative GJK, whose answer moves when the

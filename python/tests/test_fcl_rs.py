@@ -6,23 +6,9 @@ import numpy as np
 import pytest
 
 import fcl_rs
-from conftest import SOURCE_DIR, random_poses
+from conftest import SOURCE_DIR, random_poses, torus
 
 THREADS = [1, 2, 4]
-
-
-def torus(big=0.6, small=0.2, rings=16, sides=8):
-    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, rings, endpoint=False),
-                       np.linspace(0, 2 * np.pi, sides, endpoint=False), indexing="ij")
-    vertices = np.stack([(big + small * np.cos(v)) * np.cos(u), (big + small * np.cos(v)) * np.sin(u),
-                         small * np.sin(v)], axis=-1).reshape(-1, 3)
-    triangles = []
-    for i in range(rings):
-        for j in range(sides):
-            a, b = i * sides + j, ((i + 1) % rings) * sides + j
-            c, d = ((i + 1) % rings) * sides + (j + 1) % sides, i * sides + (j + 1) % sides
-            triangles += [[a, b, c], [a, c, d]]
-    return vertices, np.array(triangles)
 
 
 def test_quickstart_runs_and_readme_quotes_it(capsys):
