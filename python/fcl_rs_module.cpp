@@ -236,13 +236,18 @@ TriangleMesh<double> meshOf(const py::handle& vertices_arg, const py::handle& tr
   return mesh;
 }
 
+/// The pairs an SRDF disables for the robot (none without an SRDF).
+std::vector<DisabledCollision> disabledCollisionsOf(const std::string& srdf, const RobotModel& model)
+{
+  return srdf.empty() ? std::vector<DisabledCollision>{} : loadDisabledCollisions(srdf, model);
+}
+
 /// A robot loaded from URDF (and SRDF), with its self-collision checker.
 struct Robot
 {
   Robot(const std::string& urdf, const std::string& srdf, const std::string& bv)
     : model(loadUrdf(urdf)),
-      checker(model, robotBVType(bv, "fcl_rs.Robot"),
-              srdf.empty() ? std::vector<DisabledCollision>{} : loadDisabledCollisions(srdf, model))
+      checker(model, robotBVType(bv, "fcl_rs.Robot"), disabledCollisionsOf(srdf, model))
   {
   }
   RobotModel model;
@@ -368,8 +373,7 @@ struct PyEnvironment
 {
   PyEnvironment(const std::string& urdf, const std::string& srdf, const std::string& bv)
     : model(loadUrdf(urdf)),
-      env(model, robotBVType(bv, "fcl_rs.Environment"),
-          srdf.empty() ? std::vector<DisabledCollision>{} : loadDisabledCollisions(srdf, model))
+      env(model, robotBVType(bv, "fcl_rs.Environment"), disabledCollisionsOf(srdf, model))
   {
   }
   RobotModel model;
