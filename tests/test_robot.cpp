@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <set>
 
@@ -636,6 +637,46 @@ TEST(RobotErrors, InconsistentValuesNameUrdfAndElement)
   expectError([&] { loadUrdf(scale); }, {scale, "link 'arm'", "arm.obj", "scale"});
   const std::string size = writeTestbot(replaced(kTestbotUrdf, R"(<sphere radius="0.04"/>)", R"(<sphere radius="-0.04"/>)"));
   expectError([&] { loadUrdf(size); }, {size, "link 'tip'", "size"});
+}
+
+/// Every size of a box, cylinder or sphere must be positive and finite, a mesh scale finite and non-zero: an
+/// error naming the URDF and the link, whether urdfdom refuses the text (nan, inf, 1e999: "Link [slider]") or
+/// fcl_rs the value (zero, negative: "link 'slider'"). A negative scale component mirrors the mesh, as URDFs of mirrored parts use it.
+TEST(RobotErrors, BadPrimitiveSizesAndMeshScalesNameTheLink)
+{
+  struct Edit
+  {
+    const char* from;
+    const char* link;
+  };
+  const Edit edits[] = {{R"(size="0.1 0.1 0.1")", "slider"},
+                        {R"(radius="0.08" length="0.8")", "column"},
+                        {R"(radius="0.04")", "tip"},
+                        {R"(scale="2 1 1")", "arm"}};
+  const std::vector<std::string> replacements[] = {
+      {R"(size="nan 0.1 0.1")", R"(size="0.1 inf 0.1")", R"(size="0.1 0.1 1e999")", R"(size="0.1 -0.1 0.1")",
+       R"(size="0.1 0 0.1")"},
+      {R"(radius="nan" length="0.8")", R"(radius="0.08" length="-inf")", R"(radius="-0.08" length="0.8")",
+       R"(radius="0.08" length="0")"},
+      {R"(radius="nan")", R"(radius="inf")", R"(radius="-0.04")", R"(radius="0")"},
+      {R"(scale="nan 1 1")", R"(scale="2 inf 1")", R"(scale="2 1 0")"}};
+  for (std::size_t e = 0; e < std::size(edits); ++e)
+    for (const std::string& bad : replacements[e])
+    {
+      SCOPED_TRACE(bad);
+      const std::string urdf = writeTestbot(replaced(kTestbotUrdf, edits[e].from, bad));
+      expectError([&] { loadUrdf(urdf); }, {urdf, edits[e].link});
+    }
+  const RobotModel plain = loadUrdf(writeTestbot());
+  const RobotModel mirrored = loadUrdf(writeTestbot(replaced(kTestbotUrdf, R"(scale="2 1 1")", R"(scale="-2 1 1")")));
+  const auto& a = plain.links.at(plain.linkIndex("arm")).mesh;
+  const auto& b = mirrored.links.at(mirrored.linkIndex("arm")).mesh;
+  ASSERT_EQ(a.vertices.size(), b.vertices.size());
+  ASSERT_FALSE(a.vertices.empty());
+  for (std::size_t i = 0; i < a.vertices.size(); ++i)  // the collision origin is x = 0.5 in the link frame
+    EXPECT_LT((b.vertices[i] - fcl::Vector3d(1 - a.vertices[i].x(), a.vertices[i].y(), a.vertices[i].z())).norm(),
+              1e-12)
+        << i;
 }
 
 TEST(RobotErrors, MalformedUrdfNamesFile)

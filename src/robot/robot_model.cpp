@@ -2,9 +2,11 @@
 #include "fcl_rs/robot/robot_model.h"
 #include "fcl_rs/mesh/load_mesh.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -60,6 +62,14 @@ private:
   throw std::runtime_error("fcl_rs: URDF '" + urdf_path + "': " + what);
 }
 
+/// A number for a message, as a URDF would write it (six significant digits).
+std::string number(double value)
+{
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
 // urdfdom itself rejects non-finite numbers, so none is checked here.
 fcl::Transform3d toTransform(const urdf::Pose& p)
 {
@@ -78,11 +88,20 @@ void addCollision(const urdf::Collision& c, const std::string& urdf_path, RobotL
   const fcl::Transform3d origin = toTransform(c.origin);
   Primitive prim;
   prim.origin = origin;
+  // The sizes must be positive and finite, as fcl_rs::requireValidShape asks of the FCL shapes made from them
+  // (urdfdom itself refuses text that is no finite number: "nan", "inf", "1e999").
+  const auto requirePositive = [&](const char* shape, const std::string& sizes, std::initializer_list<double> values) {
+    for (const double v : values)
+      if (!(v > 0 && std::isfinite(v)))
+        fail(urdf_path, "link '" + link.name + "' has a collision " + shape + " with " + sizes +
+                            ": every size must be positive and finite");
+  };
   switch (c.geometry->type)
   {
     case urdf::Geometry::BOX:
     {
       const auto& d = static_cast<const urdf::Box&>(*c.geometry).dim;
+      requirePositive("box", "size (" + number(d.x) + ", " + number(d.y) + ", " + number(d.z) + ")", {d.x, d.y, d.z});
       prim.type = Primitive::Type::kBox;
       prim.size << d.x, d.y, d.z;
       break;
@@ -90,18 +109,29 @@ void addCollision(const urdf::Collision& c, const std::string& urdf_path, RobotL
     case urdf::Geometry::CYLINDER:
     {
       const auto& cyl = static_cast<const urdf::Cylinder&>(*c.geometry);
+      requirePositive("cylinder", "radius " + number(cyl.radius) + " and length " + number(cyl.length),
+                      {cyl.radius, cyl.length});
       prim.type = Primitive::Type::kCylinder;
       prim.size << cyl.radius, cyl.length, 0;
       break;
     }
     case urdf::Geometry::SPHERE:
+    {
+      const double radius = static_cast<const urdf::Sphere&>(*c.geometry).radius;
+      requirePositive("sphere", "radius " + number(radius), {radius});
       prim.type = Primitive::Type::kSphere;
-      prim.size << static_cast<const urdf::Sphere&>(*c.geometry).radius, 0, 0;
+      prim.size << radius, 0, 0;
       break;
+    }
     case urdf::Geometry::MESH:
     {
       const auto& m = static_cast<const urdf::Mesh&>(*c.geometry);
       const std::string where = "link '" + link.name + "': collision mesh '" + m.filename + "'";
+      // A negative component mirrors the mesh, as URDF's mirrored parts use it; zero flattens it.
+      const fcl::Vector3d scale(m.scale.x, m.scale.y, m.scale.z);
+      if (!scale.allFinite() || (scale.array() == 0).any())
+        fail(urdf_path, where + ": scale (" + number(scale.x()) + ", " + number(scale.y()) + ", " + number(scale.z()) +
+                            ") has a zero or non-finite component");
       std::string file;
       try
       {
@@ -121,8 +151,6 @@ void addCollision(const urdf::Collision& c, const std::string& urdf_path, RobotL
       {
         fail(urdf_path, where + ": " + e.what());
       }
-      const fcl::Vector3d scale(m.scale.x, m.scale.y, m.scale.z);
-      if ((scale.array() == 0).any()) fail(urdf_path, where + ": scale has a zero component");
       auto& out = link.mesh;
       const auto base = unsigned(out.vertices.size());
       for (const auto& v : mesh.vertices) out.vertices.push_back(origin * v.cwiseProduct(scale));
@@ -131,8 +159,6 @@ void addCollision(const urdf::Collision& c, const std::string& urdf_path, RobotL
     }
     default: fail(urdf_path, "link '" + link.name + "' has a collision geometry of unknown type");
   }
-  if ((prim.size.array() < 0).any() || prim.size.maxCoeff() <= 0)
-    fail(urdf_path, "link '" + link.name + "' has a collision primitive with a negative or zero size");
   link.primitives.push_back(prim);
 }
 
