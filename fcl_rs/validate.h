@@ -107,8 +107,10 @@ void requireRigidTransforms(const std::vector<fcl::Transform3<S>>& tfs, const ch
 /// is one of FCL's primitive shapes (the ones detail::withShape dispatches), has sizes fcl_rs can answer for: Box
 /// sides, Sphere radius, Ellipsoid radii, Capsule, Cone and Cylinder radius and lz positive and finite; a Convex with
 /// finite vertices and a face list whose faces have at least 3 vertices, with indices in range; a Plane or Halfspace
-/// with a unit normal (within rigidTransformTolerance on |n|^2) and a finite offset. Other geometries (meshes,
-/// octrees, TriangleP) and null pass; the entries check null themselves. Constant time, but linear in a Convex's
+/// with a unit normal (within rigidTransformTolerance on |n|^2) and a finite offset; a TriangleP with finite
+/// vertices (a zero-area one, a segment or a point, is valid: mesh-TriangleP pairs run the mesh-mesh triangle
+/// test, which answers degenerate triangles exactly). Other geometries (meshes, octrees) and null pass; the entries
+/// check null themselves. Constant time, but linear in a Convex's
 /// size, as its leaf set-up is (src/validate.cpp).
 template <typename S>
 void requireValidShape(const fcl::CollisionGeometry<S>* geometry, const char* api, const char* argument);

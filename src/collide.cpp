@@ -3,6 +3,7 @@
 #include "validated_entries.h"
 #include "fcl_rs/collide.h"
 
+#include <algorithm>
 #include <limits>
 #include <sstream>
 #include <vector>
@@ -43,6 +44,18 @@ void addApproximateCost(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3
   collide_box(box, box_tf, only_cost_request);
 }
 
+template <typename S>
+std::size_t meshMesh(const fcl::BVHModel<RS<S>>& m1, const fcl::Transform3<S>& tf1, const fcl::BVHModel<RS<S>>& m2,
+                     const fcl::Transform3<S>& tf2, const fcl::CollisionRequest<S>& request,
+                     fcl::CollisionResult<S>& result)
+{
+  if (request.isSatisfied(result)) return result.numContacts();
+  MeshCollisionTraversalNodeRS<S> node;
+  initialize(node, m1, tf1, m2, tf2, request, result);
+  collideTrees(node);
+  return result.numContacts();
+}
+
 template <typename Shape, typename S, typename Solver>
 std::size_t meshShape(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh, const Shape& shape,
                       const fcl::Transform3<S>& tf_shape, const Solver* solver, const fcl::CollisionRequest<S>& request,
@@ -63,6 +76,35 @@ std::size_t meshShape(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S
       fcl::detail::ShapeShapeCollide<fcl::Box<S>, Shape>(&box, box_tf, &shape, tf_shape, solver, only_cost_request,
                                                          result);
     });
+  return result.numContacts();
+}
+
+/// A TriangleP: the triangle as a one-triangle mesh (no solver); its contacts then name it as FCL names a shape
+/// (o2, b2 = NONE).
+template <typename S, typename Solver>
+std::size_t meshShape(const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<S>& tf_mesh,
+                      const fcl::TriangleP<S>& triangle, const fcl::Transform3<S>& tf_triangle, const Solver*,
+                      const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+{
+  const std::size_t before = result.numContacts();
+  const auto triangle_mesh = detail::triangleAsMesh(triangle);
+  meshMesh(mesh, tf_mesh, *triangle_mesh, tf_triangle, request, result);
+  if (result.numContacts() == before) return before;
+  std::vector<fcl::Contact<S>> contacts;
+  result.getContacts(contacts);
+  std::vector<fcl::CostSource<S>> costs;
+  result.getCostSources(costs);
+  result.clear();
+  for (std::size_t i = 0; i < contacts.size(); ++i)
+  {
+    if (i >= before)
+    {
+      contacts[i].o2 = &triangle;
+      contacts[i].b2 = fcl::Contact<S>::NONE;
+    }
+    result.addContact(contacts[i]);
+  }
+  for (const auto& cost : costs) result.addCostSource(cost, std::numeric_limits<std::size_t>::max());
   return result.numContacts();
 }
 
@@ -110,43 +152,42 @@ std::size_t meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::
       });
 }
 
+
+/// fcl::collide with both poses moved by -tf1's translation, so that FCL (libccd's GJK above all) sees the pair's
+/// relative placement: far from the origin absolute coordinates round the shapes' sizes away (libccd's GJK
+/// asserted from about 1e16 in double and looped for minutes at 1e7 in float), relative ones do not. Contacts and
+/// cost sources are moved back; the caller's result is filled as fcl::collide fills it.
 template <typename S>
-std::size_t meshMesh(const fcl::BVHModel<RS<S>>& m1, const fcl::Transform3<S>& tf1, const fcl::BVHModel<RS<S>>& m2,
-                     const fcl::Transform3<S>& tf2, const fcl::CollisionRequest<S>& request,
-                     fcl::CollisionResult<S>& result)
+std::size_t fclCollideRelative(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
+                               const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
+                               const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
 {
   if (request.isSatisfied(result)) return result.numContacts();
-  MeshCollisionTraversalNodeRS<S> node;
-  initialize(node, m1, tf1, m2, tf2, request, result);
-  collideTrees(node);
-  return result.numContacts();
-}
-
-/// The triangle as a one-triangle mesh; its contacts then name it as FCL names a shape (o2, b2 = NONE).
-template <typename S>
-std::size_t meshTriangle(const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<S>& tf_mesh,
-                         const fcl::TriangleP<S>& triangle, const fcl::Transform3<S>& tf_triangle,
-                         const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
-{
+  const fcl::Vector3<S> shift = tf1.translation();
+  fcl::Transform3<S> near1 = tf1, near2 = tf2;
+  near1.translation().setZero();
+  near2.translation() -= shift;
+  // A fresh result with the room the caller's has left: FCL counts the contacts already there.
   const std::size_t before = result.numContacts();
-  const auto triangle_mesh = detail::triangleAsMesh(triangle);
-  meshMesh(mesh, tf_mesh, *triangle_mesh, tf_triangle, request, result);
-  if (result.numContacts() == before) return before;
-  std::vector<fcl::Contact<S>> contacts;
-  result.getContacts(contacts);
-  std::vector<fcl::CostSource<S>> costs;
-  result.getCostSources(costs);
-  result.clear();
-  for (std::size_t i = 0; i < contacts.size(); ++i)
+  const std::size_t room = request.num_max_contacts > before ? request.num_max_contacts - before : 0;
+  fcl::CollisionRequest<S> local_request(request);
+  local_request.num_max_contacts = std::max<std::size_t>(room, 1);
+  fcl::CollisionResult<S> local;
+  fcl::collide(o1, near1, o2, near2, local_request, local);
+  for (std::size_t i = 0; i < std::min(room, local.numContacts()); ++i)
   {
-    if (i >= before)
-    {
-      contacts[i].o2 = &triangle;
-      contacts[i].b2 = fcl::Contact<S>::NONE;
-    }
-    result.addContact(contacts[i]);
+    fcl::Contact<S> contact = local.getContact(i);
+    contact.pos += shift;
+    result.addContact(contact);
   }
-  for (const auto& cost : costs) result.addCostSource(cost, std::numeric_limits<std::size_t>::max());
+  std::vector<fcl::CostSource<S>> costs;
+  local.getCostSources(costs);
+  for (fcl::CostSource<S> cost : costs)
+  {
+    cost.aabb_min += shift;
+    cost.aabb_max += shift;
+    result.addCostSource(cost, request.num_max_cost_sources);
+  }
   return result.numContacts();
 }
 
@@ -173,9 +214,6 @@ std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3
   if (other->getObjectType() != fcl::OT_GEOM)
     detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
                             "an RS mesh collides with RS meshes, octrees and primitive shapes only");
-  if (other->getNodeType() == fcl::GEOM_TRIANGLE)
-    return meshTriangle(mesh_first ? *m1 : *m2, tf_mesh, static_cast<const fcl::TriangleP<S>&>(*other), tf_other,
-                        request, result);
   return meshShapeDispatch(mesh, tf_mesh, other, tf_other, solver, request, result);
 }
 
@@ -189,7 +227,7 @@ std::size_t collideValidated(const fcl::CollisionGeometry<S>* o1, const fcl::Tra
                              const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
 {
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::collide: null collision geometry");
-  if (!asRSMesh(o1) && !asRSMesh(o2)) return fcl::collide(o1, tf1, o2, tf2, request, result);
+  if (!asRSMesh(o1) && !asRSMesh(o2)) return fclCollideRelative(o1, tf1, o2, tf2, request, result);
   switch (request.gjk_solver_type)
   {
     case fcl::GST_LIBCCD:

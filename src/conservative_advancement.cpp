@@ -127,15 +127,11 @@ Ball<S> boundingBall(const fcl::CollisionGeometry<S>& g)
   if (g.getObjectType() != fcl::OT_GEOM)
     unsupportedPair(kApi, g.getNodeType(), g.getNodeType(),
                     "conservative advancement moves RS meshes and primitive shapes only");
-  // The shape's local box (computeLocalAABB would write the caller's geometry). A TriangleP is no case of the
-  // shape switch (collide and distance take it first too).
+  // The shape's local box (computeLocalAABB would write the caller's geometry).
   fcl::AABB<S> box;
-  const auto local_box = [&box](const auto& shape) { fcl::computeBV(shape, fcl::Transform3<S>::Identity(), box); };
-  if (g.getNodeType() == fcl::GEOM_TRIANGLE)
-    local_box(static_cast<const fcl::TriangleP<S>&>(g));
-  else
-    withShape(g, local_box,
-              [&g] { unsupportedPair(kApi, g.getNodeType(), g.getNodeType(), "no bounding box for this shape"); });
+  withShape(
+      g, [&box](const auto& shape) { fcl::computeBV(shape, fcl::Transform3<S>::Identity(), box); },
+      [&g] { unsupportedPair(kApi, g.getNodeType(), g.getNodeType(), "no bounding box for this shape"); });
   ball.centre = box.center();
   ball.radius = (box.max_ - box.min_).norm() / 2;
   return ball;

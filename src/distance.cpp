@@ -26,6 +26,20 @@ using detail::asRSMesh;
 
 constexpr const char* kApi = "fcl_rs::distance";
 
+/// fcl::detail::orientedMeshDistance, with the descent of distanceTrees.
+template <typename S>
+S meshMesh(const fcl::BVHModel<RS<S>>& m1, const fcl::Transform3<S>& tf1, const fcl::BVHModel<RS<S>>& m2,
+           const fcl::Transform3<S>& tf2, const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+{
+  if (!request.isSatisfied(result))
+  {
+    MeshDistanceTraversalNodeRS<S> node;
+    initialize(node, m1, tf1, m2, tf2, request, result);
+    distanceTrees(node);
+  }
+  return result.min_distance;
+}
+
 template <typename Shape, typename S, typename Solver>
 S meshShape(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh, const Shape& shape,
             const fcl::Transform3<S>& tf_shape, const Solver* solver, const fcl::DistanceRequest<S>& request,
@@ -37,6 +51,23 @@ S meshShape(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh
   initialize(node, model, tf_mesh, shape, tf_shape, solver, request, result);
   distanceMeshShape(node);
   return result.min_distance;
+}
+
+/// A TriangleP: the triangle as a one-triangle mesh (no solver), named in the result as FCL names a shape (o2,
+/// b2 = NONE).
+template <typename S, typename Solver>
+S meshShape(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh, const fcl::TriangleP<S>& triangle,
+            const fcl::Transform3<S>& tf_triangle, const Solver*, const fcl::DistanceRequest<S>& request,
+            fcl::DistanceResult<S>& result)
+{
+  const auto triangle_mesh = detail::triangleAsMesh(triangle);
+  const S res = meshMesh(model, tf_mesh, *triangle_mesh, tf_triangle, request, result);
+  if (result.o2 == triangle_mesh.get())
+  {
+    result.o2 = &triangle;
+    result.b2 = fcl::DistanceResult<S>::NONE;
+  }
+  return res;
 }
 
 template <typename S, typename Solver>
@@ -89,18 +120,26 @@ void signedDistanceFromContacts(const fcl::CollisionGeometry<S>* o1, const fcl::
   }
 }
 
-/// fcl::detail::orientedMeshDistance, with the descent of distanceTrees.
+/// fcl::distance with both poses moved by -tf1's translation (as fclCollideRelative in collide.cpp, and for the
+/// same reason); nearest points this query sets are moved back.
 template <typename S>
-S meshMesh(const fcl::BVHModel<RS<S>>& m1, const fcl::Transform3<S>& tf1, const fcl::BVHModel<RS<S>>& m2,
-           const fcl::Transform3<S>& tf2, const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
+S fclDistanceRelative(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
+                      const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
+                      const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
 {
-  if (!request.isSatisfied(result))
+  const fcl::Vector3<S> shift = tf1.translation();
+  fcl::Transform3<S> near1 = tf1, near2 = tf2;
+  near1.translation().setZero();
+  near2.translation() -= shift;
+  const S before = result.min_distance;
+  const S res = fcl::distance(o1, near1, o2, near2, request, result);
+  // FCL's DistanceResult::update writes the nearest points with a strictly smaller distance only.
+  if (request.enable_nearest_points && result.min_distance < before)
   {
-    MeshDistanceTraversalNodeRS<S> node;
-    initialize(node, m1, tf1, m2, tf2, request, result);
-    distanceTrees(node);
+    result.nearest_points[0] += shift;
+    result.nearest_points[1] += shift;
   }
-  return result.min_distance;
+  return res;
 }
 
 template <typename S, typename Solver>
@@ -140,19 +179,7 @@ S distanceRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
       if (other->getObjectType() != fcl::OT_GEOM)
         detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
                                 "an RS mesh measures distance to RS meshes, octrees and primitive shapes only");
-      if (other->getNodeType() == fcl::GEOM_TRIANGLE)
-      {
-        // The triangle as a one-triangle mesh, named in the result as FCL names a shape (o2, b2 = NONE).
-        const auto triangle_mesh = detail::triangleAsMesh(static_cast<const fcl::TriangleP<S>&>(*other));
-        res = meshMesh(mesh_first ? *m1 : *m2, tf_mesh, *triangle_mesh, tf_other, request, result);
-        if (result.o2 == triangle_mesh.get())
-        {
-          result.o2 = other;
-          result.b2 = fcl::DistanceResult<S>::NONE;
-        }
-      }
-      else
-        res = meshShapeDispatch(mesh, tf_mesh, other, tf_other, solver, request, result);
+      res = meshShapeDispatch(mesh, tf_mesh, other, tf_other, solver, request, result);
     }
   }
   // Only when this query made the distance negative: a result shared by several queries (the broadphase
@@ -185,11 +212,11 @@ S distanceValidated(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S
     // fuzz_api): fcl_rs's fallback, as for RS meshes, runs instead.
     const bool fcl_signs = request.gjk_solver_type == fcl::GST_LIBCCD && o1->getObjectType() == fcl::OT_GEOM &&
                            o2->getObjectType() == fcl::OT_GEOM;
-    if (!request.enable_signed_distance || fcl_signs) return fcl::distance(o1, tf1, o2, tf2, request, result);
+    if (!request.enable_signed_distance || fcl_signs) return fclDistanceRelative(o1, tf1, o2, tf2, request, result);
     fcl::DistanceRequest<S> unsigned_request(request);
     unsigned_request.enable_signed_distance = false;
     const S start_distance = result.min_distance;
-    const S res = fcl::distance(o1, tf1, o2, tf2, unsigned_request, result);
+    const S res = fclDistanceRelative(o1, tf1, o2, tf2, unsigned_request, result);
     if (result.min_distance < 0 && result.min_distance < start_distance)
       signedDistanceFromContacts(o1, tf1, o2, tf2, request, result);
     return res;

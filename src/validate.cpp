@@ -93,8 +93,17 @@ std::optional<std::string> defect(const Shape& shape)
   }
   else if constexpr (std::is_same_v<Shape, fcl::Convex<S>>)
     return convexDefect(shape);
+  else if constexpr (std::is_same_v<Shape, fcl::TriangleP<S>>)
+  {
+    // Zero area is valid: a segment or a point, which the mesh-mesh triangle test it runs answers exactly.
+    const fcl::Vector3<S>* corners[3] = {&shape.a, &shape.b, &shape.c};
+    for (int i = 0; i < 3; ++i)
+      if (!corners[i]->allFinite())
+        return std::string("with vertex ") + "abc"[i] + " at " + text(*corners[i]) + ": every vertex must be finite";
+  }
   else
   {
+    static_assert(std::is_same_v<Shape, fcl::Plane<S>> || std::is_same_v<Shape, fcl::Halfspace<S>>);
     // Plane and halfspace: the leaf tests and bounds take |n| = 1, as FCL's constructors make it.
     if (!(std::abs(shape.n.squaredNorm() - 1) <= rigidTransformTolerance<S>()))
       return "with normal " + text(shape.n) + ": it must be a finite unit vector";
@@ -115,7 +124,8 @@ const char* shapeName()
   else if constexpr (std::is_same_v<Shape, fcl::Cylinder<S>>) return "Cylinder";
   else if constexpr (std::is_same_v<Shape, fcl::Convex<S>>) return "Convex";
   else if constexpr (std::is_same_v<Shape, fcl::Plane<S>>) return "Plane";
-  else return "Halfspace";
+  else if constexpr (std::is_same_v<Shape, fcl::Halfspace<S>>) return "Halfspace";
+  else return "TriangleP";
 }
 
 }  // namespace

@@ -1036,10 +1036,21 @@ TYPED_TEST(CollideDropIn, PairsWithoutRSAreFclCollide)
     {
       auto req = allContactsRequest<S>(contact);
       if (contact) req.num_max_contacts = 8;
+      // fcl_rs passes FCL the relative placement (both poses moved by -tf1's translation) and moves the contacts
+      // back: FCL's answer for those poses, to the bit.
+      fcl::Transform3<S> near1 = tf1, near2 = tf2;
+      near1.translation().setZero();
+      near2.translation() -= tf1.translation();
       const auto same = [&](const fcl::CollisionGeometry<S>* g1, const fcl::CollisionGeometry<S>* g2) {
-        fcl::CollisionResult<S> ours, theirs;
+        fcl::CollisionResult<S> ours, relative, theirs;
         const std::size_t n_ours = fcl_rs::collide<S>(g1, tf1, g2, tf2, req, ours);
-        const std::size_t n_theirs = fcl::collide(g1, tf1, g2, tf2, req, theirs);
+        const std::size_t n_theirs = fcl::collide(g1, near1, g2, near2, req, relative);
+        for (std::size_t k = 0; k < relative.numContacts(); ++k)
+        {
+          fcl::Contact<S> c = relative.getContact(k);
+          c.pos += tf1.translation();
+          theirs.addContact(c);
+        }
         EXPECT_EQ(n_ours, n_theirs);
         EXPECT_EQ(ours.isCollision(), theirs.isCollision());
         EXPECT_TRUE(contactKeys(ours, contact) == contactKeys(theirs, contact));

@@ -440,18 +440,24 @@ template <typename S>
 S bruteForceLeafDistance(const TriangleMesh<S>& mesh, const fcl::Transform3<S>& tf1,
                          const fcl::CollisionGeometry<S>& shape, const fcl::Transform3<S>& tf2)
 {
-  const auto over = [&](const auto& typed) {
-    const fcl_rs::TriangleShapeLeaf<std::decay_t<decltype(typed)>> leaf(typed, tf1, tf2);
-    S best = std::numeric_limits<S>::max();
-    for (const auto& t : mesh.triangles)
+  const auto over = [&](const auto& typed) -> S {
+    using Shape = std::decay_t<decltype(typed)>;
+    if constexpr (std::is_same_v<Shape, fcl::TriangleP<S>>)
+      throw std::invalid_argument("bruteForceLeafDistance: a TriangleP has no mesh-shape leaf test");
+    else
     {
-      const fcl::Vector3<S> p[3] = {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]};
-      fcl::Vector3<S> a, b;
-      const S d = leaf.distance(p, a, b);
-      if (d < 0) return S(-1);
-      best = std::min(best, d);
+      const fcl_rs::TriangleShapeLeaf<Shape> leaf(typed, tf1, tf2);
+      S best = std::numeric_limits<S>::max();
+      for (const auto& t : mesh.triangles)
+      {
+        const fcl::Vector3<S> p[3] = {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]};
+        fcl::Vector3<S> a, b;
+        const S d = leaf.distance(p, a, b);
+        if (d < 0) return S(-1);
+        best = std::min(best, d);
+      }
+      return best;
     }
-    return best;
   };
   return fcl_rs::detail::withShape(shape, over, []() -> S {
     throw std::invalid_argument("bruteForceLeafDistance: not a primitive shape");

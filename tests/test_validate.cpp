@@ -5,6 +5,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -20,6 +21,7 @@
 #include <fcl/geometry/shape/halfspace.h>
 #include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/sphere.h>
+#include <fcl/geometry/shape/triangle_p.h>
 #include <gtest/gtest.h>
 
 #include "fcl_rs/fcl_rs.h"
@@ -322,6 +324,11 @@ std::vector<std::pair<std::shared_ptr<fcl::CollisionGeometry<S>>, std::string>> 
   const auto halfspace = std::make_shared<fcl::Halfspace<S>>(fcl::Vector3<S>(0, 0, 1), S(0));
   halfspace->d = nan;
   shapes.emplace_back(halfspace, "fcl::Halfspace with offset d nan");
+  const fcl::Vector3<S> o = fcl::Vector3<S>::Zero(), x = fcl::Vector3<S>::UnitX();
+  shapes.emplace_back(std::make_shared<fcl::TriangleP<S>>(o, fcl::Vector3<S>(nan, 0, 0), x),
+                      "fcl::TriangleP with vertex b at (nan, 0, 0): every vertex must be finite");
+  shapes.emplace_back(std::make_shared<fcl::TriangleP<S>>(o, x, fcl::Vector3<S>(0, 0, -inf)),
+                      "fcl::TriangleP with vertex c at (0, 0, -inf)");
   // A tetrahedron; each spoilt copy changes one thing after construction.
   const auto tetrahedron = [](const std::function<void(std::vector<fcl::Vector3<S>>&, std::vector<int>&)>& spoil) {
     auto vertices = std::make_shared<std::vector<fcl::Vector3<S>>>(std::vector<fcl::Vector3<S>>{
@@ -387,7 +394,10 @@ TYPED_TEST(Validate, EntryPointsRefuseBadShapes)
       std::make_shared<fcl::Cone<S>>(S(0.1), S(1)), std::make_shared<fcl::Cylinder<S>>(S(0.1), S(1)),
       std::make_shared<fcl::Convex<S>>(tetrahedron_vertices, 4, faces),
       std::make_shared<fcl::Plane<S>>(fcl::Vector3<S>(S(0.3), S(-2), S(7)), S(3)),
-      std::make_shared<fcl::Halfspace<S>>(fcl::Vector3<S>(S(1e-3), S(2e-3), S(-5e-3)), S(-1))};
+      std::make_shared<fcl::Halfspace<S>>(fcl::Vector3<S>(S(1e-3), S(2e-3), S(-5e-3)), S(-1)),
+      std::make_shared<fcl::TriangleP<S>>(fcl::Vector3<S>(0, 0, 0), fcl::Vector3<S>(1, 0, 0), fcl::Vector3<S>(0, 1, 0)),
+      // Zero area (a segment) is valid: ZeroAreaTrianglePIsAnsweredExactly.
+      std::make_shared<fcl::TriangleP<S>>(fcl::Vector3<S>(0, 0, 0), fcl::Vector3<S>(1, 0, 0), fcl::Vector3<S>(1, 0, 0))};
   for (const auto& shape : good)
   {
     SCOPED_TRACE("node type " + std::to_string(shape->getNodeType()));
@@ -396,6 +406,192 @@ TYPED_TEST(Validate, EntryPointsRefuseBadShapes)
     EXPECT_NO_THROW(fcl_rs::collide<S>(mesh.get(), I, shape.get(), I, fcl::CollisionRequest<S>(), cr));
   }
   EXPECT_NO_THROW(fcl_rs::requireValidShape<S>(mesh.get(), "test", "shape"));
+}
+
+/// A TriangleP of zero area, a segment (two corners equal, or three collinear) or a point, is valid
+/// (requireValidShape): against an RS mesh it runs the mesh-mesh triangle test, which answers degenerate
+/// triangles exactly. A unit cube mesh against each, in both orders: crossing or touching a face is a collision,
+/// and apart the distance is the closed form (the nearest face, edge or corner).
+TYPED_TEST(Validate, ZeroAreaTrianglePIsAnsweredExactly)
+{
+  using S = TypeParam;
+  using V = fcl::Vector3<S>;
+  const auto cube = fcl_rs::buildModel<fcl_rs::RS<S>>(fcl_rs::makeBox<S>(1, 1, 1));
+  fcl::Transform3<S> at = fcl::Transform3<S>::Identity();  // the triangle's frame, so that its pose matters too
+  at.translation() = V(S(0.25), S(-0.5), S(0.125));
+  const V shift = at.translation();
+  struct Case
+  {
+    const char* what;
+    fcl::TriangleP<S> triangle;  // in the frame `at`
+    bool collides;
+    S distance;                  // when apart
+  };
+  const std::vector<Case> cases = {
+      {"segment crossing the cube", fcl::TriangleP<S>(V(-1, S(0.1), S(0.2)) - shift, V(1, S(0.1), S(0.2)) - shift,
+                                                      V(1, S(0.1), S(0.2)) - shift), true, 0},
+      {"collinear corners touching a face", fcl::TriangleP<S>(V(S(0.5), 0, 0) - shift, V(1, 0, 0) - shift,
+                                                              V(S(1.5), 0, 0) - shift), true, 0},
+      {"point on a face", fcl::TriangleP<S>(V(S(0.5), S(0.1), S(0.2)) - shift, V(S(0.5), S(0.1), S(0.2)) - shift,
+                                            V(S(0.5), S(0.1), S(0.2)) - shift), true, 0},
+      {"segment parallel to a face", fcl::TriangleP<S>(V(2, S(-0.3), S(0.1)) - shift, V(2, S(0.3), S(0.1)) - shift,
+                                                       V(2, S(-0.3), S(0.1)) - shift), false, S(1.5)},
+      {"point off a corner", fcl::TriangleP<S>(V(S(0.8), S(0.9), S(0.5)) - shift, V(S(0.8), S(0.9), S(0.5)) - shift,
+                                               V(S(0.8), S(0.9), S(0.5)) - shift), false, S(0.5)},
+  };
+  const fcl::Transform3<S> I = fcl::Transform3<S>::Identity();
+  const S tolerance = 64 * std::numeric_limits<S>::epsilon();
+  for (const Case& c : cases)
+    for (const bool cube_first : {true, false})
+    {
+      SCOPED_TRACE(std::string(c.what) + (cube_first ? ", cube first" : ", triangle first"));
+      const fcl::CollisionGeometry<S>* g1 = cube_first ? static_cast<const fcl::CollisionGeometry<S>*>(cube.get()) : &c.triangle;
+      const fcl::CollisionGeometry<S>* g2 = cube_first ? static_cast<const fcl::CollisionGeometry<S>*>(&c.triangle) : cube.get();
+      const fcl::Transform3<S>& tf1 = cube_first ? I : at;
+      const fcl::Transform3<S>& tf2 = cube_first ? at : I;
+      EXPECT_NO_THROW(fcl_rs::requireValidShape<S>(&c.triangle, "test", "triangle"));
+      fcl::CollisionResult<S> cr;
+      EXPECT_EQ(fcl_rs::collide(g1, tf1, g2, tf2, fcl::CollisionRequest<S>(), cr) > 0, c.collides);
+      if (c.collides) continue;
+      fcl::DistanceRequest<S> request;
+      request.enable_nearest_points = true;
+      fcl::DistanceResult<S> dr;
+      EXPECT_NEAR(fcl_rs::distance(g1, tf1, g2, tf2, request, dr), c.distance, tolerance);
+      EXPECT_NEAR((dr.nearest_points[0] - dr.nearest_points[1]).norm(), c.distance, tolerance);
+    }
+}
+
+/// Far from the origin (a common offset of 1e7, exact in float and double), every public path that reaches FCL's
+/// solvers (shape pairs, mesh-shape contacts, signed distances, continuous collision, broadphase callbacks)
+/// answers as near it: fcl_rs passes FCL the pair's relative placement, so FCL sees the numbers it sees at the
+/// origin (before, libccd's GJK asserted from about 1e16 in double and looped for minutes at 1e7 in float). The
+/// shapes have sizes of a few units and integer offsets, which the far poses keep exactly even in float.
+TYPED_TEST(Validate, FarFromTheOriginAnswersAsNearIt)
+{
+  using S = TypeParam;
+  using G = std::shared_ptr<fcl::CollisionGeometry<S>>;
+  const G mesh = fcl_rs::buildModel<fcl_rs::RS<S>>(fcl_rs::makeBox<S>(4, 2, 3));
+  const G box = std::make_shared<fcl::Box<S>>(S(3), S(2), S(2)), capsule = std::make_shared<fcl::Capsule<S>>(S(1), S(3));
+  const G ellipsoid = std::make_shared<fcl::Ellipsoid<S>>(S(2), S(1.5), S(1));
+  const G cone = std::make_shared<fcl::Cone<S>>(S(1.5), S(3)), cylinder = std::make_shared<fcl::Cylinder<S>>(S(1), S(2));
+  const G sphere = std::make_shared<fcl::Sphere<S>>(S(2));
+  // The ellipsoid only against the mesh: FCL's GJKSolver_indep collides an ellipsoid with no shape (it warns and
+  // reports none). Two overlapping spheres' signed distance in float looped for minutes at this offset before.
+  const std::vector<std::pair<G, G>> pairs = {{box, capsule}, {cone, box}, {cylinder, box}, {capsule, cone},
+                                              {sphere, sphere}, {mesh, ellipsoid}, {cone, mesh}};
+  const fcl::Vector3<S> offset(S(1e7), S(-1e7), S(5e6));
+  // Positions near the offset round to its ulps (1 in float); distances are of the same relative placement. An
+  // ellipsoid's nearest points are GJK's, within its tolerance (docs/distance.md).
+  const S slack = 8 * std::numeric_limits<S>::epsilon() * offset.norm();
+  const S distance_tolerance = std::is_same_v<S, float> ? S(1e-3) : slack;
+  const S point_tolerance = std::max(slack, S(1e-6));
+  const auto moved = [&](fcl::Transform3<S> tf) {
+    tf.translation() += offset;
+    return tf;
+  };
+  std::mt19937_64 rng = fcl_rs::test::seededRng("FarFromTheOriginAnswersAsNearIt/" + scalarName<S>());
+  std::uniform_int_distribution<int> step(-3, 3);
+  for (std::size_t k = 0; k < pairs.size(); ++k)
+    for (int trial = 0; trial < 4; ++trial)
+    {
+      const auto& [a, b] = pairs[k];
+      const bool rs = a == mesh || b == mesh;
+      fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(0)), tf2 = fcl_rs::test::randomPose<S>(rng, S(0));
+      tf1.translation().setZero();
+      tf2.translation() = fcl::Vector3<S>(S(step(rng)), S(step(rng)), S(step(rng)));
+      // Never concentric: FCL's libccd signed distance of two concentric spheres loops at any offset.
+      if (tf2.translation().isZero()) tf2.translation().x() = 1;
+      SCOPED_TRACE(::testing::Message() << "pair " << k << ", trial " << trial << ", offset " << tf2.translation().transpose());
+      for (const fcl::GJKSolverType solver : {fcl::GST_LIBCCD, fcl::GST_INDEP})
+      {
+        fcl::CollisionRequest<S> collision(4, true);
+        collision.gjk_solver_type = solver;
+        fcl::CollisionResult<S> near_hits, far_hits;
+        fcl_rs::collide(a.get(), tf1, b.get(), tf2, collision, near_hits);
+        fcl_rs::collide(a.get(), moved(tf1), b.get(), moved(tf2), collision, far_hits);
+        // FCL sees the same numbers; the RS leaf test's tolerance grows with the coordinates (its contract: every
+        // pair that meets, and pairs within the tolerance), so far away it may report more triangles.
+        if (rs)
+        {
+          EXPECT_GE(far_hits.numContacts(), near_hits.numContacts());
+        }
+        else
+        {
+          ASSERT_EQ(far_hits.numContacts(), near_hits.numContacts());
+          for (std::size_t i = 0; i < near_hits.numContacts(); ++i)
+            EXPECT_LE((far_hits.getContact(i).pos - offset - near_hits.getContact(i).pos).norm(), slack);
+        }
+        for (const bool signed_distance : {false, true})
+        {
+          fcl::DistanceRequest<S> request(true);
+          request.enable_signed_distance = signed_distance;
+          request.gjk_solver_type = solver;
+          fcl::DistanceResult<S> near_result, far_result;
+          const S near_distance = fcl_rs::distance(a.get(), tf1, b.get(), tf2, request, near_result);
+          const S far_distance = fcl_rs::distance(a.get(), moved(tf1), b.get(), moved(tf2), request, far_result);
+          // In float 1e7 is where the RS leaf tolerance (relative to the coordinates) reaches a few units: a gap
+          // below it may be reported as meeting (-1), never a distance larger than near the origin.
+          if (rs && std::is_same_v<S, float> && far_distance < 0)
+          {
+            EXPECT_LE(far_distance, near_distance);
+            continue;
+          }
+          EXPECT_NEAR(far_distance, near_distance, distance_tolerance);
+          if (near_distance > 0)
+          {
+            EXPECT_LE((far_result.nearest_points[0] - offset - near_result.nearest_points[0]).norm(), point_tolerance);
+          }
+        }
+        // The broadphase callbacks (both objects far).
+        fcl::CollisionObject<S> o1(a, moved(tf1)), o2(b, moved(tf2));
+        fcl::DynamicAABBTreeCollisionManager<S> manager;
+        manager.registerObject(&o1);
+        manager.registerObject(&o2);
+        manager.setup();
+        fcl_rs::DefaultCollisionData<S> data;
+        data.request = collision;
+        manager.collide(&data, fcl_rs::DefaultCollisionFunction<S>);
+        EXPECT_EQ(data.result.numContacts(), far_hits.numContacts());
+      }
+      if constexpr (std::is_same_v<S, double>)
+      {
+        // Continuous collision: b moves by 5 along x; both modes; the time of contact as near the origin.
+        fcl::Transform3<S> end2 = tf2;
+        end2.translation().x() += 5;
+        for (const fcl::CCDSolverType mode : {fcl::CCDC_NAIVE, fcl::CCDC_CONSERVATIVE_ADVANCEMENT})
+        {
+          const fcl::ContinuousCollisionRequest<S> request(20, 0.05, fcl::CCDM_TRANS, fcl::GST_LIBCCD, mode);
+          fcl::ContinuousCollisionResult<S> near_result, far_result;
+          const S near_time = fcl_rs::continuousCollide(a.get(), tf1, tf1, b.get(), tf2, end2, request, near_result);
+          const S far_time =
+              fcl_rs::continuousCollide(a.get(), moved(tf1), moved(tf1), b.get(), moved(tf2), moved(end2), request, far_result);
+          EXPECT_EQ(far_result.is_collide, near_result.is_collide) << "mode " << mode;
+          EXPECT_NEAR(far_time, near_time, 1e-6) << "mode " << mode;
+        }
+      }
+    }
+}
+
+/// FCL's conservative advancement crashed (SIGSEGV) on every pair of a shape and a plane or halfspace tried: the
+/// pair is refused with a clear error, as fcl_rs::distance refuses it.
+TEST(ValidateContinuous, ConservativeAdvancementRefusesPlanesAndHalfspacesBetweenShapes)
+{
+  const fcl::Box<double> box(1, 1, 1);
+  const fcl::Plane<double> plane(fcl::Vector3d::UnitZ(), 0);
+  const fcl::Halfspace<double> halfspace(fcl::Vector3d::UnitY(), 0);
+  fcl::Transform3d start = fcl::Transform3d::Identity(), end = start;
+  start.translation() << 0, 0, 3;
+  const fcl::ContinuousCollisionRequest<double> request(10, 0.01, fcl::CCDM_TRANS, fcl::GST_LIBCCD,
+                                                        fcl::CCDC_CONSERVATIVE_ADVANCEMENT);
+  for (const fcl::CollisionGeometry<double>* flat : {static_cast<const fcl::CollisionGeometry<double>*>(&plane),
+                                                     static_cast<const fcl::CollisionGeometry<double>*>(&halfspace)})
+  {
+    fcl::ContinuousCollisionResult<double> result;
+    expectMessage([&] { fcl_rs::continuousCollide<double>(&box, start, end, flat, end, end, request, result); },
+                  {"fcl_rs::continuousCollide: FCL's conservative advancement crashes on a plane or halfspace"});
+    expectMessage([&] { fcl_rs::continuousCollide<double>(flat, end, end, &box, start, end, request, result); },
+                  {"plane or halfspace"});
+  }
 }
 
 /// FCL's distance to a plane or a halfspace calls a null support function (fuzz_api found it for a sphere and a

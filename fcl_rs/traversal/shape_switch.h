@@ -19,6 +19,7 @@
 #include <fcl/geometry/shape/halfspace.h>
 #include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/sphere.h>
+#include <fcl/geometry/shape/triangle_p.h>
 
 #include "fcl_rs/bv/rs.h"
 #include "fcl_rs/bvh/node_links.h"
@@ -26,8 +27,8 @@
 namespace fcl_rs {
 namespace detail {
 
-/// f(shape) with geometry cast to its primitive shape type (fcl::Box<S>, ...), or otherwise() for any other node
-/// type (meshes, octrees). Both return the same type. Every entry point that handles shapes by type goes through
+/// f(shape) with geometry cast to its primitive shape type (fcl::Box<S>, ..., fcl::TriangleP<S>), or otherwise()
+/// for any other node type (meshes, octrees). Both return the same type. Every entry point that handles shapes by type goes through
 /// this switch, so that a new shape type is one case here.
 template <typename S, typename F, typename Otherwise>
 decltype(auto) withShape(const fcl::CollisionGeometry<S>& geometry, F&& f, Otherwise&& otherwise)
@@ -43,6 +44,7 @@ decltype(auto) withShape(const fcl::CollisionGeometry<S>& geometry, F&& f, Other
     case fcl::GEOM_CONVEX: return f(static_cast<const fcl::Convex<S>&>(geometry));
     case fcl::GEOM_PLANE: return f(static_cast<const fcl::Plane<S>&>(geometry));
     case fcl::GEOM_HALFSPACE: return f(static_cast<const fcl::Halfspace<S>&>(geometry));
+    case fcl::GEOM_TRIANGLE: return f(static_cast<const fcl::TriangleP<S>&>(geometry));
     default: return otherwise();
   }
 }
