@@ -10,8 +10,10 @@
 #include <random>
 
 #include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/halfspace.h>
 #include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/sphere.h>
+#include <fcl/geometry/shape/triangle_p.h>
 #include <fcl/math/bv/OBB.h>
 #include <fcl/math/bv/OBBRSS.h>
 #include <gtest/gtest.h>
@@ -263,8 +265,14 @@ TYPED_TEST(EnvironmentTest, BadInputIsRefused)
   const auto box = std::make_shared<fcl::Box<S>>(S(0.1), S(0.1), S(0.1));
   expectInvalid([&] { env.addShape("", box, at<S>(0, 0, 0)); }, "empty");
   expectInvalid([&] { env.addShape("a", nullptr, at<S>(0, 0, 0)); }, "'a'");
+  expectInvalid([&] { env.addShape("a", buildModel<RS<S>>(makeBox<S>(1, 1, 1)), at<S>(0, 0, 0)); },
+                "obstacle 'a' is not a primitive shape");
   expectInvalid(
-      [&] { env.addShape("a", std::make_shared<fcl::Plane<S>>(fcl::Vector3<S>::UnitZ(), S(0)), at<S>(0, 0, 0)); }, "'a'");
+      [&] {
+        env.addShape("a", std::make_shared<fcl::TriangleP<S>>(fcl::Vector3<S>::Zero(), fcl::Vector3<S>::UnitX(), fcl::Vector3<S>::UnitY()),
+                     at<S>(0, 0, 0));
+      },
+      "obstacle 'a' is a TriangleP");
   expectInvalid([&] { env.addShape("a", std::make_shared<fcl::Sphere<S>>(S(-0.1)), at<S>(0, 0, 0)); },
                 "fcl_rs::Environment::addShape: obstacle 'a' is an fcl::Sphere with radius -0.1");
   fcl::Transform3<S> bad = at<S>(0, 0, 0);
@@ -473,6 +481,175 @@ TYPED_TEST(EnvironmentTest, BatchesEqualSingleCalls)
   expectInvalid([&] { motionBatch(env, qs, Configurations<S>(n - 1, 8)); }, "ends");
 }
 #endif
+
+/// A two-joint arm without self pairs (its two geometric links are adjacent), written under the test's temporary
+/// directory: a mesh link (an OBJ slab) with a cylinder, and a link of a sphere and a tilted box.
+const RobotModel& slabArm()
+{
+  static const RobotModel robot = [] {
+    const std::string dir = ::testing::TempDir();
+    std::ofstream obj(dir + "/fcl_rs_environment_slab.obj");
+    const TriangleMesh<double> slab = makeBox<double>(0.6, 0.08, 0.05);
+    for (const fcl::Vector3d& v : slab.vertices) obj << "v " << v.x() + 0.3 << " " << v.y() << " " << v.z() << "\n";
+    for (const auto& t : slab.triangles) obj << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+    obj.close();
+    const std::string path = dir + "/fcl_rs_environment_slab_arm.urdf";
+    std::ofstream(path) << R"(<?xml version="1.0"?>
+<robot name="slab_arm">
+  <link name="base"/>
+  <link name="rod">
+    <collision><geometry><mesh filename="fcl_rs_environment_slab.obj"/></geometry></collision>
+    <collision><origin xyz="0.3 0 0.06"/><geometry><cylinder radius="0.03" length="0.1"/></geometry></collision>
+  </link>
+  <link name="hand">
+    <collision><origin xyz="0.2 0 0"/><geometry><sphere radius="0.06"/></geometry></collision>
+    <collision><origin xyz="0.1 0 0" rpy="0.3 0.2 0.1"/><geometry><box size="0.2 0.04 0.05"/></geometry></collision>
+  </link>
+  <joint name="shoulder" type="revolute">
+    <parent link="base"/><child link="rod"/><origin xyz="0 0 0.4"/><axis xyz="0 1 0"/>
+    <limit lower="-1.5" upper="1.5" effort="1" velocity="1"/>
+  </joint>
+  <joint name="elbow" type="revolute">
+    <parent link="rod"/><child link="hand"/><origin xyz="0.6 0 0"/><axis xyz="0 0.6 0.8"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/>
+  </joint>
+</robot>
+)";
+    return loadUrdf(path);
+  }();
+  return robot;
+}
+
+/// A link's distance to a plane or halfspace (-1: they meet), by element: the mesh through fcl_rs's own mesh-plane
+/// traversal on an RS tree, a box, cylinder or sphere by its closed form (centre height less the half extent along
+/// the normal).
+template <typename S>
+S linkFlatReference(const RobotModel& robot, int link, const fcl::Transform3<S>& pose, const fcl::Vector3<S>& n, S d,
+                    bool plane)
+{
+  S best = std::numeric_limits<S>::infinity();
+  const auto keep = [&](S centre_height, S half_extent) {
+    const S gap = (plane ? std::abs(centre_height) : centre_height) - half_extent;
+    best = std::min(best, gap <= 0 ? S(-1) : gap);
+  };
+  const RobotLink& l = robot.links[std::size_t(link)];
+  if (!l.mesh.triangles.empty())
+  {
+    TriangleMesh<S> mesh;
+    for (const auto& v : l.mesh.vertices) mesh.vertices.push_back(v.template cast<S>());
+    mesh.triangles = l.mesh.triangles;
+    const auto tree = buildModel<RS<S>>(mesh);
+    std::shared_ptr<fcl::CollisionGeometry<S>> flat;
+    if (plane)
+      flat = std::make_shared<fcl::Plane<S>>(n, d);
+    else
+      flat = std::make_shared<fcl::Halfspace<S>>(n, d);
+    fcl::CollisionResult<S> collision;
+    fcl::DistanceResult<S> distance;
+    const fcl::Transform3<S> I = fcl::Transform3<S>::Identity();
+    if (fcl_rs::collide(tree.get(), pose, flat.get(), I, fcl::CollisionRequest<S>(), collision))
+      best = -1;
+    else
+      best = std::min(best, fcl_rs::distance(tree.get(), pose, flat.get(), I, fcl::DistanceRequest<S>(), distance));
+  }
+  for (const Primitive& p : l.primitives)
+  {
+    const fcl::Transform3<S> placed = pose * fcl::Transform3<S>(p.origin.template cast<S>());
+    const fcl::Vector3<S> u = placed.linear().transpose() * n;  // the normal in the shape's frame
+    const S height = n.dot(placed.translation()) - d;
+    const fcl::Vector3<S> size = p.size.template cast<S>();
+    switch (p.type)
+    {
+      case Primitive::Type::kBox: keep(height, u.cwiseAbs().dot(size) / 2); break;
+      case Primitive::Type::kSphere: keep(height, size.x()); break;
+      case Primitive::Type::kCylinder:
+        keep(height, size.x() * std::sqrt(std::max(S(0), 1 - u.z() * u.z())) + size.y() / 2 * std::abs(u.z()));
+        break;
+    }
+  }
+  return best;
+}
+
+/// A table top (a tilted halfspace) and a wall (a plane), measured exactly against mesh and primitive links with
+/// every BV type: colliding pairs and the minimum distance are linkFlatReference's, the nearest points realise it
+/// with the second on the flat; motion checks agree with dense sampling.
+TYPED_TEST(EnvironmentTest, PlanesAndHalfspacesAreMeasuredExactly)
+{
+  using S = TypeParam;
+  const RobotModel& robot = slabArm();
+  const S tol = std::is_same_v<S, float> ? S(2e-4) : S(1e-9);
+  fcl::Transform3<S> table_pose = at<S>(0, 0, S(0.1));
+  table_pose.linear() = Eigen::AngleAxis<S>(S(0.05), fcl::Vector3<S>::UnitX()).toRotationMatrix();
+  const auto table = std::make_shared<fcl::Halfspace<S>>(fcl::Vector3<S>::UnitZ(), S(0));  // z <= 0 at its pose
+  const auto wall = std::make_shared<fcl::Plane<S>>(fcl::Vector3<S>::UnitX(), S(0));
+  struct Flat
+  {
+    std::string name;
+    fcl::Vector3<S> n;
+    S d;
+    bool plane;
+  };
+  const fcl::Vector3<S> table_n = table_pose.linear().col(2);
+  const std::vector<Flat> flats = {{"table", table_n, table_n.dot(table_pose.translation()), false},
+                                   {"wall", fcl::Vector3<S>::UnitX(), S(0.7), true}};
+  for (BVType bv : {BVType::kRS, BVType::kOBBRSS, BVType::kRSS, BVType::kOBB})
+  {
+    SCOPED_TRACE(bvTypeName(bv));
+    auto rng = test::seededRng("PlanesAndHalfspacesAreMeasuredExactly/" + test::scalarName<S>() + "/" + bvTypeName(bv));
+    Environment<S> env(robot, bv);
+    env.addShape("table", table, table_pose);
+    env.addShape("wall", wall, at<S>(S(0.7), 0, 0));
+    const bool distances = bv != BVType::kOBB;
+    int colliding = 0, free = 0;
+    for (int i = 0; i < (test::kSanitized ? 8 : 24); ++i)
+    {
+      const fcl::VectorX<S> q = env.kinematics().randomConfiguration(rng);
+      SCOPED_TRACE(::testing::Message() << "configuration " << i << ": " << q.transpose());
+      std::vector<fcl::Transform3<S>> poses;
+      env.kinematics().linkPoses(q, poses);
+      // Links in model order, obstacles in insertion order: the order of the result's pairs.
+      std::vector<BodyPair> expected_pairs;
+      S expected_distance = std::numeric_limits<S>::infinity();
+      bool grazing = false;
+      for (int link : {robot.linkIndex("rod"), robot.linkIndex("hand")})
+        for (const Flat& f : flats)
+        {
+          const S d = linkFlatReference(robot, link, poses[std::size_t(link)], f.n, f.d, f.plane);
+          grazing = grazing || (d >= 0 && d < tol);
+          if (d < 0) expected_pairs.push_back({robot.links[std::size_t(link)].name, f.name, false});
+          expected_distance = std::min(expected_distance, d);
+        }
+      if (grazing) continue;
+      const EnvironmentResult<S> result = env.query(q, EnvironmentRequest{true, distances});
+      EXPECT_EQ(result.colliding, !expected_pairs.empty());
+      EXPECT_TRUE(result.pairs == expected_pairs) << result.pairs.size() << " pairs, " << expected_pairs.size() << " expected";
+      (expected_pairs.empty() ? free : colliding) += 1;
+      if (!distances || !expected_pairs.empty()) continue;
+      EXPECT_NEAR(result.minimum_distance, expected_distance, tol * (1 + expected_distance));
+      EXPECT_NEAR((result.nearest_points[0] - result.nearest_points[1]).norm(), result.minimum_distance, tol);
+      for (const Flat& f : flats)
+        if (result.nearest_pair.other == f.name)
+        {
+          EXPECT_NEAR(f.n.dot(result.nearest_points[1]) - f.d, 0, tol);
+        }
+    }
+    if (!test::kSanitized)
+    {
+      EXPECT_GT(colliding, 0);
+      EXPECT_GT(free, 0);
+    }
+    if (!distances) continue;
+    int colliding_motions = 0;
+    for (int i = 0; i < (test::kSanitized ? 2 : 6); ++i)
+    {
+      const fcl::VectorX<S> from = env.kinematics().randomConfiguration(rng), to = env.kinematics().randomConfiguration(rng);
+      SCOPED_TRACE(::testing::Message() << "segment " << i << " from " << from.transpose() << " to " << to.transpose());
+      expectMotionAgreesWithSampling(env, from, to, test::kSanitized ? 50 : 150, MotionRequest<S>(), &colliding_motions);
+    }
+    std::cout << "[flats] " << bvTypeName(bv) << ": " << colliding << " colliding and " << free
+              << " free configurations, " << colliding_motions << " colliding motions\n";
+  }
+}
 
 #if FCL_HAVE_OCTOMAP
 /// The boxes of an octree's occupied leaf cells in its own frame (the cells FCL's traversals test, from the

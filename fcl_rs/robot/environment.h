@@ -115,9 +115,13 @@ public:
   const Kinematics<S>& kinematics() const;
   BVType bvType() const;
 
-  /// Adds an FCL shape (box, sphere, cylinder, capsule, cone, ellipsoid or convex) at `pose` in the root frame.
-  /// Throws std::invalid_argument when the name is empty or taken, the geometry is null or not one of these
-  /// shapes, or the pose is not a finite rigid transform.
+  /// Adds an FCL shape (box, sphere, cylinder, capsule, cone, ellipsoid, convex, plane or halfspace) at `pose` in
+  /// the root frame. A plane or halfspace (a table top, a floor) is measured exactly against each link: its
+  /// extreme heights over the link mesh's vertices and the link shapes' support points decide collision
+  /// (touching counts) and distance, with nearest points, for every BV type (FCL measures no distance to
+  /// either). Throws std::invalid_argument when the name is empty or taken, the geometry is null, not one of
+  /// these shapes (a TriangleP: FCL tests it against no link shape) or invalid (requireValidShape), or the pose is
+  /// not a finite rigid transform.
   void addShape(const std::string& name, std::shared_ptr<fcl::CollisionGeometry<S>> shape,
                 const fcl::Transform3<S>& pose);
   /// Adds a mesh (its own coordinates), built once as a tree of the environment's BV type, at `pose`. Throws

@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 
 #include <fcl/math/bv/AABB.h>
 #include <fcl/math/bv/OBB.h>
@@ -20,6 +21,7 @@
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/collide.h"
 #include "fcl_rs/distance.h"
+#include "fcl_rs/traversal/shape_switch.h"
 #include "fcl_rs/validate.h"
 
 namespace fcl_rs {
@@ -128,6 +130,75 @@ S bodiesDistance(const Body<S>& a, const Tf<S>& ta, const Body<S>& b, const Tf<S
   return bound;
 }
 
+/// A plane n . x = d or a halfspace n . x <= d (|n| = 1) in the root frame. Unbounded: no ball or box holds it,
+/// and FCL measures no distance to it, so links are measured against it exactly here (Impl::heights).
+template <typename S>
+struct Flat
+{
+  fcl::Vector3<S> n;
+  S d;
+  bool plane;  ///< else a halfspace
+};
+
+/// The obstacle geometry placed at pose as a Flat, or none for a bounded geometry.
+template <typename S>
+std::optional<Flat<S>> flatAt(const fcl::CollisionGeometry<S>& geometry, const Tf<S>& pose)
+{
+  return detail::withShape(
+      geometry,
+      [&](const auto& shape) -> std::optional<Flat<S>> {
+        using Shape = std::decay_t<decltype(shape)>;
+        if constexpr (std::is_same_v<Shape, fcl::Plane<S>> || std::is_same_v<Shape, fcl::Halfspace<S>>)
+        {
+          const Shape placed = fcl::transform(shape, pose);
+          return Flat<S>{placed.n, placed.d, std::is_same_v<Shape, fcl::Plane<S>>};
+        }
+        else
+          return std::nullopt;
+      },
+      []() -> std::optional<Flat<S>> { return std::nullopt; });
+}
+
+/// The point of a link shape (a box, cylinder or sphere: the shapes SelfCollision makes) farthest along the unit
+/// vector u, in the shape's frame.
+template <typename S>
+fcl::Vector3<S> linkShapeSupport(const fcl::CollisionGeometry<S>& geometry, const fcl::Vector3<S>& u)
+{
+  const auto not_a_link_shape = []() -> fcl::Vector3<S> {
+    throw std::logic_error("fcl_rs::Environment: a link shape is not a box, cylinder or sphere");
+  };
+  return detail::withShape(
+      geometry,
+      [&](const auto& shape) -> fcl::Vector3<S> {
+        using Shape = std::decay_t<decltype(shape)>;
+        if constexpr (std::is_same_v<Shape, fcl::Box<S>>)
+          return fcl::Vector3<S>(u.x() < 0 ? -shape.side.x() : shape.side.x(), u.y() < 0 ? -shape.side.y() : shape.side.y(),
+                                 u.z() < 0 ? -shape.side.z() : shape.side.z()) /
+                 2;
+        else if constexpr (std::is_same_v<Shape, fcl::Sphere<S>>)
+          return shape.radius * u;
+        else if constexpr (std::is_same_v<Shape, fcl::Cylinder<S>>)
+        {
+          const S radial = std::hypot(u.x(), u.y());
+          const S scale = radial > 0 ? shape.radius / radial : S(0);
+          return fcl::Vector3<S>(scale * u.x(), scale * u.y(), u.z() < 0 ? -shape.lz / 2 : shape.lz / 2);
+        }
+        else
+          return not_a_link_shape();
+      },
+      not_a_link_shape);
+}
+
+/// The lowest and highest signed heights n . x - d of a link's geometry over a Flat, with their points (root
+/// frame).
+template <typename S>
+struct Heights
+{
+  S lo = std::numeric_limits<S>::infinity();
+  S hi = -std::numeric_limits<S>::infinity();
+  fcl::Vector3<S> lo_point = fcl::Vector3<S>::Zero(), hi_point = fcl::Vector3<S>::Zero();
+};
+
 template <typename BV>
 std::shared_ptr<fcl::CollisionGeometry<typename BV::S>> buildTree(const TriangleMesh<typename BV::S>& mesh)
 {
@@ -201,6 +272,7 @@ struct Environment<S>::Impl
     WorldSphere<S> sphere;  ///< at pose
     fcl::AABB<S> box;       ///< the geometry's box in its own frame (tighter than the ball for slabs such as tables;
                             ///< an octree's: its occupied cells')
+    std::optional<Flat<S>> flat;  ///< a plane or halfspace, placed at pose (its sphere then holds everything)
   };
 
   /// A pair a motion check certifies: a self pair (other_link >= 0) or a link and an obstacle.
@@ -229,6 +301,7 @@ struct Environment<S>::Impl
                                   "be shared; use RS, OBBRSS, OBB or RSS");
     const int n = int(robot.links.size());
     links.resize(n);
+    link_vertices.resize(n);
     for (int i = 0; i < n; ++i)
     {
       links[i].elements = self.linkElements(i);
@@ -236,6 +309,7 @@ struct Environment<S>::Impl
       links[i].center = s.center;
       links[i].radius = s.radius;
       if (!links[i].elements.empty()) geometric_links.push_back(i);
+      for (const fcl::Vector3d& v : robot.links[i].mesh.vertices) link_vertices[i].push_back(v.template cast<S>());
     }
     computeLevers(robot);
   }
@@ -322,6 +396,7 @@ struct Environment<S>::Impl
     o.geometry = std::move(geometry);
     o.pose = pose;
     o.from_world = pose.inverse(Eigen::Isometry);
+    o.flat = flatAt(*o.geometry, pose);
     fit(o);
     obstacles.push_back(std::move(o));
   }
@@ -332,6 +407,13 @@ struct Environment<S>::Impl
   {
     o.body = Body<S>();
     o.box = fcl::AABB<S>();
+    if (o.flat)
+    {
+      // A ball holding everything; the gaps to a plane or halfspace are its own (obstacleGap), its box unused.
+      o.body.elements.push_back({o.geometry.get(), Tf<S>::Identity()});
+      o.sphere = WorldSphere<S>{fcl::Vector3<S>::Zero(), std::numeric_limits<S>::infinity()};
+      return;
+    }
 #if FCL_HAVE_OCTOMAP
     if (o.geometry->getNodeType() == fcl::GEOM_OCTREE)
     {
@@ -385,6 +467,11 @@ struct Environment<S>::Impl
     for (std::size_t i = 0; i < obstacles.size(); ++i)
     {
       if (obstacles[i].body.elements.empty()) continue;
+      if (obstacles[i].flat)
+      {
+        near.push_back(int(i));
+        continue;
+      }
       const WorldSphere<S>& s = obstacles[i].sphere;
       const fcl::Vector3<S> outside = (lo - s.centre).cwiseMax(s.centre - hi).cwiseMax(S(0));
       if (outside.squaredNorm() <= s.reach * s.reach) near.push_back(int(i));
@@ -399,6 +486,85 @@ struct Environment<S>::Impl
     const fcl::Vector3<S> c = o.from_world * ball.centre;
     const fcl::Vector3<S> outside = (o.box.min_ - c).cwiseMax(c - o.box.max_).cwiseMax(S(0));
     return outside.norm() - ball.reach * S(1 + 1e-5);
+  }
+
+  /// A lower bound on the distance between a link's ball and an obstacle: the balls' gap or the gap to the
+  /// obstacle's box, whichever is larger; for a plane or halfspace the ball centre's height over it.
+  static S obstacleGap(const WorldSphere<S>& ball, const Obstacle& o)
+  {
+    if (o.flat)
+    {
+      const S height = o.flat->n.dot(ball.centre) - o.flat->d;
+      return (o.flat->plane ? std::abs(height) : height) - ball.reach * S(1 + 1e-5);
+    }
+    return std::max(sphereGap(ball, o.sphere), boxGap(ball, o));
+  }
+
+  /// Whether the link's ball may touch the obstacle (the cheap tests first).
+  static bool mayTouch(const WorldSphere<S>& ball, const Obstacle& o)
+  {
+    if (o.flat) return obstacleGap(ball, o) <= 0;
+    return !spheresApart(ball, o.sphere) && boxGap(ball, o) <= 0;
+  }
+
+  /// The link's extreme heights over a plane or halfspace, exact: a linear function's extremes over a mesh are at
+  /// its vertices, over a box, cylinder or sphere at its support points along -n and n.
+  Heights<S> heights(int link, const Tf<S>& pose, const Flat<S>& flat) const
+  {
+    Heights<S> h;
+    const auto keep = [&](const fcl::Vector3<S>& x) {
+      const S height = flat.n.dot(x) - flat.d;
+      if (height < h.lo)
+      {
+        h.lo = height;
+        h.lo_point = x;
+      }
+      if (height > h.hi)
+      {
+        h.hi = height;
+        h.hi_point = x;
+      }
+    };
+    for (const LinkElement<S>& e : links[link].elements)
+    {
+      const Tf<S> placed = pose * e.origin;
+      if (e.geometry->getObjectType() == fcl::OT_BVH)
+        for (const fcl::Vector3<S>& v : link_vertices[link]) keep(placed * v);
+      else
+      {
+        const fcl::Vector3<S> u = placed.linear().transpose() * flat.n;
+        keep(placed * linkShapeSupport(*e.geometry, fcl::Vector3<S>(-u)));
+        keep(placed * linkShapeSupport(*e.geometry, u));
+      }
+    }
+    return h;
+  }
+
+  /// Whether the link at pose touches the obstacle (touching counts).
+  bool linkCollides(int link, const Tf<S>& pose, const Obstacle& o) const
+  {
+    if (!o.flat) return bodiesCollide(links[link], pose, o.body, o.pose);
+    const Heights<S> h = heights(link, pose, *o.flat);
+    return h.lo <= 0 && (!o.flat->plane || h.hi >= 0);
+  }
+
+  /// bodiesDistance between the link at pose and the obstacle; exact for a plane or halfspace (rel_err unused).
+  S linkDistance(int link, const Tf<S>& pose, const Obstacle& o, S bound, fcl::Vector3<S>* points, S rel_err = 0) const
+  {
+    if (!o.flat) return bodiesDistance(links[link], pose, o.body, o.pose, bound, points, rel_err);
+    const Heights<S> h = heights(link, pose, *o.flat);
+    // The side the link is on: above (lo > 0), or for a plane below (hi < 0); else they touch.
+    const bool above = h.lo > 0, below = o.flat->plane && h.hi < 0;
+    const S d = above ? h.lo : below ? -h.hi : S(0);
+    if (d >= bound) return bound;
+    if (points)
+    {
+      // The extreme point on the link's side and its foot on the flat (both the foot when they touch).
+      points[0] = below ? h.hi_point : h.lo_point;
+      points[1] = points[0] - (below ? h.hi : h.lo) * o.flat->n;
+      if (d == 0) points[0] = points[1];
+    }
+    return d;
   }
 
   BodyPair selfPair(const LinkPair& p) const
@@ -433,8 +599,7 @@ struct Environment<S>::Impl
       for (int link : geometric_links)
       {
         for (int o : near)
-          if (!spheresApart(spheres[link], obstacles[o].sphere) && boxGap(spheres[link], obstacles[o]) <= 0 &&
-              bodiesCollide(links[link], poses[link], obstacles[o].body, obstacles[o].pose))
+          if (mayTouch(spheres[link], obstacles[o]) && linkCollides(link, poses[link], obstacles[o]))
           {
             result.colliding = true;
             if (stop_at_first) break;
@@ -467,17 +632,15 @@ struct Environment<S>::Impl
     for (int link : geometric_links)
       for (int o = 0; o < int(obstacles.size()); ++o)
         if (!obstacles[o].body.elements.empty())
-          order.push_back({std::max(sphereGap(spheres[link], obstacles[o].sphere), boxGap(spheres[link], obstacles[o])),
-                           link, o, false});
+          order.push_back({obstacleGap(spheres[link], obstacles[o]), link, o, false});
     std::stable_sort(order.begin(), order.end());
     S best = std::numeric_limits<S>::infinity();
     fcl::Vector3<S> points[2];
     for (const Candidate& c : order)
     {
       if (c.bound >= best) break;
-      const Body<S>& other = c.self ? links[c.second] : obstacles[c.second].body;
-      const Tf<S>& other_pose = c.self ? poses[c.second] : obstacles[c.second].pose;
-      const S d = bodiesDistance(links[c.first], poses[c.first], other, other_pose, best, points);
+      const S d = c.self ? bodiesDistance(links[c.first], poses[c.first], links[c.second], poses[c.second], best, points)
+                         : linkDistance(c.first, poses[c.first], obstacles[c.second], best, points);
       if (d >= best) continue;
       best = d;
       result.nearest_pair = c.self ? selfPair({c.first, c.second}) : obstaclePair(c.first, c.second);
@@ -517,8 +680,7 @@ struct Environment<S>::Impl
   {
     const WorldSphere<S>& ball = s.spheres[p.link];
     if (p.other_link >= 0) return std::max(S(0), sphereGap(ball, s.spheres[p.other_link]));
-    const Obstacle& o = obstacles[p.obstacle];
-    return std::max({S(0), sphereGap(ball, o.sphere), boxGap(ball, o)});
+    return std::max(S(0), obstacleGap(ball, obstacles[p.obstacle]));
   }
 
   /// The pair's lower bound at s: the balls' gap until the exact distance is asked for.
@@ -533,18 +695,21 @@ struct Environment<S>::Impl
   void exact(Sample& s, const MotionPair& p, int i, MotionResult<S>& result) const
   {
     s.exact[i] = 1;
-    const Body<S>& other = p.other_link >= 0 ? links[p.other_link] : obstacles[p.obstacle].body;
-    const Tf<S>& other_pose = p.other_link >= 0 ? s.poses[p.other_link] : obstacles[p.obstacle].pose;
-    if (bodiesCollide(links[p.link], s.poses[p.link], other, other_pose))
+    const bool self_pair = p.other_link >= 0;
+    const Tf<S>& pose = s.poses[p.link];
+    if (self_pair ? bodiesCollide(links[p.link], pose, links[p.other_link], s.poses[p.other_link])
+                  : linkCollides(p.link, pose, obstacles[p.obstacle]))
     {
       s.bound[i] = 0;
       s.colliding = true;
       return;
     }
     ++result.distance_queries;
-    s.bound[i] = bodiesDistance(links[p.link], s.poses[p.link], other, other_pose, std::numeric_limits<S>::infinity(),
-                                static_cast<fcl::Vector3<S>*>(nullptr), S(kMotionDistanceError)) /
-                 S(1 + kMotionDistanceError);
+    const S inf = std::numeric_limits<S>::infinity(), err = S(kMotionDistanceError);
+    const S d = self_pair ? bodiesDistance(links[p.link], pose, links[p.other_link], s.poses[p.other_link], inf,
+                                           static_cast<fcl::Vector3<S>*>(nullptr), err)
+                          : linkDistance(p.link, pose, obstacles[p.obstacle], inf, nullptr, err);
+    s.bound[i] = d / S(1 + err);
   }
 
   /// One segment, parameters in [0, 1] (see the class comment). Intervals are taken left first, so when a
@@ -676,6 +841,7 @@ struct Environment<S>::Impl
   BVType bv;
   SelfCollision<S> self;
   std::vector<Body<S>> links;
+  std::vector<std::vector<fcl::Vector3<S>>> link_vertices;  ///< each link's mesh vertices, link frame (heights)
   std::vector<int> geometric_links;
   std::vector<std::vector<double>> levers;
   std::vector<int> joint_variable;
@@ -722,19 +888,18 @@ void Environment<S>::addShape(const std::string& name, std::shared_ptr<fcl::Coll
 {
   impl_->checkNewName(name);
   if (!shape) throw std::invalid_argument("fcl_rs::Environment::addShape: obstacle '" + name + "' has no geometry");
-  switch (shape->getNodeType())
-  {
-    case fcl::GEOM_BOX:
-    case fcl::GEOM_SPHERE:
-    case fcl::GEOM_CYLINDER:
-    case fcl::GEOM_CAPSULE:
-    case fcl::GEOM_CONE:
-    case fcl::GEOM_ELLIPSOID:
-    case fcl::GEOM_CONVEX: break;
-    default:
-      throw std::invalid_argument("fcl_rs::Environment::addShape: obstacle '" + name +
-                                  "' is not a box, sphere, cylinder, capsule, cone, ellipsoid or convex shape");
-  }
+  // Every primitive shape but a TriangleP, for which FCL pairs with no link shape and no mesh of its own BV types.
+  detail::withShape(
+      *shape,
+      [&](const auto& s) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(s)>, fcl::TriangleP<S>>)
+          throw std::invalid_argument("fcl_rs::Environment::addShape: obstacle '" + name +
+                                      "' is a TriangleP, which FCL cannot test against link shapes; add it with addMesh");
+      },
+      [&] {
+        throw std::invalid_argument("fcl_rs::Environment::addShape: obstacle '" + name +
+                                    "' is not a primitive shape (meshes go through addMesh, octomaps through addOcTree)");
+      });
   requireValidShape(shape.get(), "fcl_rs::Environment::addShape", ("obstacle '" + name + "'").c_str());
   requireRigidTransform(pose, kApi, ("the pose of obstacle '" + name + "'").c_str());
   impl_->add(name, std::move(shape), pose);
@@ -777,7 +942,8 @@ void Environment<S>::setPose(const std::string& name, const fcl::Transform3<S>& 
   auto& o = impl_->obstacles[i];
   o.pose = pose;
   o.from_world = pose.inverse(Eigen::Isometry);
-  o.sphere = place(o.body, pose);
+  o.flat = flatAt(*o.geometry, pose);
+  if (!o.flat) o.sphere = place(o.body, pose);
 }
 
 template <typename S>
