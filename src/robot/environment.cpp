@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 
 #include <fcl/math/bv/AABB.h>
 #include <fcl/math/bv/OBB.h>
@@ -17,9 +18,16 @@
 #include <fcl/geometry/octree/octree.h>
 #endif
 
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+
+#include "../validated_entries.h"
+#include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/collide.h"
 #include "fcl_rs/distance.h"
+#include "fcl_rs/traversal/collision_traversal.h"
+#include "fcl_rs/traversal/shape_switch.h"
 #include "fcl_rs/validate.h"
 
 namespace fcl_rs {
@@ -80,7 +88,8 @@ bool spheresApart(const WorldSphere<S>& a, const WorldSphere<S>& b)
   return (a.centre - b.centre).squaredNorm() > reach * reach;
 }
 
-/// Whether any element of a touches any element of b (FCL's and fcl_rs's exact tests, first contact).
+/// Whether any element of a touches any element of b (FCL's and fcl_rs's exact tests, first contact): link pairs
+/// of motion checks (obstacles take Environment's own path, linkHitsObstacle).
 template <typename S>
 bool bodiesCollide(const Body<S>& a, const Tf<S>& ta, const Body<S>& b, const Tf<S>& tb)
 {
@@ -184,6 +193,12 @@ std::optional<fcl::AABB<S>> occupiedCells(const fcl::OcTree<S>& octree)
 
 }  // namespace
 
+/// Shapes whose RS volume bounds them (collidePlacedShape): all that addShape takes; planes and halfspaces are
+/// unbounded.
+template <typename Shape>
+constexpr bool placeable =
+    !std::is_same_v<Shape, fcl::Plane<typename Shape::S>> && !std::is_same_v<Shape, fcl::Halfspace<typename Shape::S>>;
+
 /// The relative error motion checks allow their distances: a lower bound within this factor of the distance
 /// certifies nearly as much and prunes far more of the trees.
 constexpr double kMotionDistanceError = 0.25;
@@ -201,6 +216,10 @@ struct Environment<S>::Impl
     WorldSphere<S> sphere;  ///< at pose
     fcl::AABB<S> box;       ///< the geometry's box in its own frame (tighter than the ball for slabs such as tables;
                             ///< an octree's: its occupied cells')
+    /// In an RS environment: the mesh's tree, or a shape's RS fitted once in its own frame (placed per query, so
+    /// setPose keeps it), for the direct paths of linkHitsObstacle; unset otherwise.
+    const fcl::BVHModel<RS<S>>* rs_mesh = nullptr;
+    std::optional<RS<S>> shape_bv;
   };
 
   /// A pair a motion check certifies: a self pair (other_link >= 0) or a link and an obstacle.
@@ -323,7 +342,77 @@ struct Environment<S>::Impl
     o.pose = pose;
     o.from_world = pose.inverse(Eigen::Isometry);
     fit(o);
+    if (bv == BVType::kRS)
+    {
+      o.rs_mesh = dynamic_cast<const fcl::BVHModel<RS<S>>*>(o.geometry.get());
+      detail::withShape(
+          *o.geometry,
+          [&](const auto& shape) {
+            if constexpr (placeable<std::decay_t<decltype(shape)>>)
+            {
+              RS<S> fitted;
+              fcl::computeBV(shape, Tf<S>::Identity(), fitted);
+              o.shape_bv = fitted;
+            }
+          },
+          [] {});
+    }
     obstacles.push_back(std::move(o));
+  }
+
+  /// Whether the link at `pose` touches the obstacle (first contact): fcl_rs::collide's answer for each of the
+  /// link's elements, without its per-call validation (the poses come from kinematics and validated obstacle poses,
+  /// the request is fixed). RS link meshes meet RS mesh obstacles on the tree traversal directly and shapes through
+  /// collidePlacedShape with the shape's volume fitted once (fcl_rs::collide would refit it per call); FCL's BV
+  /// types take fcl::collide, as SelfCollision queries them.
+  bool linkHitsObstacle(int link, const Tf<S>& pose, const Obstacle& o) const
+  {
+    const fcl::CollisionRequest<S> request(/*num_max_contacts=*/1, /*enable_contact=*/false);
+    for (const LinkElement<S>& e : links[link].elements)
+    {
+      const Tf<S> tf = pose * e.origin;
+      fcl::CollisionResult<S> result;
+      if (bv != BVType::kRS)
+      {
+        if (fcl::collide(e.geometry, tf, o.geometry.get(), o.pose, request, result) > 0) return true;
+        continue;
+      }
+      if (e.geometry->getObjectType() == fcl::OT_BVH && (o.rs_mesh || o.shape_bv))
+      {
+        const auto& mesh = static_cast<const fcl::BVHModel<RS<S>>&>(*e.geometry);
+        if (o.rs_mesh ? meshHitsMesh(mesh, tf, *o.rs_mesh, o.pose, request, result)
+                      : meshHitsShape(mesh, tf, o, request, result))
+          return true;
+        continue;
+      }
+      if (detail::collideValidated(e.geometry, tf, o.geometry.get(), o.pose, request, result) > 0) return true;
+    }
+    return false;
+  }
+
+  static bool meshHitsMesh(const fcl::BVHModel<RS<S>>& a, const Tf<S>& ta, const fcl::BVHModel<RS<S>>& b,
+                           const Tf<S>& tb, const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+  {
+    MeshCollisionTraversalNodeRS<S> node;
+    initialize(node, a, ta, b, tb, request, result);
+    collideTrees(node);
+    return result.isCollision();
+  }
+
+  static bool meshHitsShape(const fcl::BVHModel<RS<S>>& mesh, const Tf<S>& tf, const Obstacle& o,
+                            const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+  {
+    fcl::detail::GJKSolver_libccd<S> solver;
+    solver.collision_tolerance = request.gjk_tolerance;
+    return detail::withShape(
+        *o.geometry,
+        [&](const auto& shape) -> bool {
+          if constexpr (placeable<std::decay_t<decltype(shape)>>)
+            return collidePlacedShape(mesh, tf, shape, *o.shape_bv, o.pose, solver, request, result);
+          else
+            throw std::logic_error("fcl_rs::Environment: an unbounded shape has no fitted volume");
+        },
+        []() -> bool { throw std::logic_error("fcl_rs::Environment: an obstacle with a fitted volume is no shape"); });
   }
 
   /// The obstacle's element and culling volumes, from what of its geometry can touch a link: all of it, or an
@@ -434,7 +523,7 @@ struct Environment<S>::Impl
       {
         for (int o : near)
           if (!spheresApart(spheres[link], obstacles[o].sphere) && boxGap(spheres[link], obstacles[o]) <= 0 &&
-              bodiesCollide(links[link], poses[link], obstacles[o].body, obstacles[o].pose))
+              linkHitsObstacle(link, poses[link], obstacles[o]))
           {
             result.colliding = true;
             if (stop_at_first) break;
@@ -535,7 +624,8 @@ struct Environment<S>::Impl
     s.exact[i] = 1;
     const Body<S>& other = p.other_link >= 0 ? links[p.other_link] : obstacles[p.obstacle].body;
     const Tf<S>& other_pose = p.other_link >= 0 ? s.poses[p.other_link] : obstacles[p.obstacle].pose;
-    if (bodiesCollide(links[p.link], s.poses[p.link], other, other_pose))
+    if (p.other_link >= 0 ? bodiesCollide(links[p.link], s.poses[p.link], other, other_pose)
+                          : linkHitsObstacle(p.link, s.poses[p.link], obstacles[p.obstacle]))
     {
       s.bound[i] = 0;
       s.colliding = true;

@@ -165,25 +165,10 @@ private:
   bool meshShapeRS(int a, const Tf<S>& ta, const Shape& geometry, const LinkShape<S>& shape, const Tf<S>& ts,
                    const fcl::CollisionRequest<S>& request) const
   {
-    // Most shapes that pass the link test are still apart from the mesh's root: one plain RS test decides them
-    // before the shape's volume is placed and the traversal set up (cost proportional to the nodes visited).
-    const Tf<S> shape_in_mesh = ta.inverse(Eigen::Isometry) * ts;
-    const fcl::Matrix3<S> R = shape_in_mesh.linear();
-    const fcl::Vector3<S> T = shape_in_mesh.translation();
-    if (!overlap(R, T, models_[a]->getBV(0).bv, shape.bv, kDefaultOverlapTest, worldOffsets(ta, ts)))
-      return false;
-    using Solver = fcl::detail::GJKSolver_libccd<S>;
-    Solver solver;
+    fcl::detail::GJKSolver_libccd<S> solver;
     solver.collision_tolerance = request.gjk_tolerance;
-    MeshShapeCollisionTraversalNodeRS<Shape, Solver> node;
     fcl::CollisionResult<S> result;
-    if constexpr (std::is_same<Shape, fcl::Sphere<S>>::value)  // its bound needs no fitted volume
-      initialize(node, *models_[a], ta, geometry, ts, &solver, request, result);
-    else
-      initialize(node, *models_[a], ta, geometry, ts, &solver, request, result,
-                 std::optional<ShapeBound<S, Shape>>(std::in_place, shape.bv, shape_in_mesh));
-    collideMeshShape(node);
-    return result.isCollision();
+    return collidePlacedShape(*models_[a], ta, geometry, shape.bv, ts, solver, request, result);
   }
 
   std::vector<std::shared_ptr<fcl::BVHModel<BV>>> models_;
