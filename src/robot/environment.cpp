@@ -453,16 +453,15 @@ struct Environment<S>::Impl
     if (find(name) >= 0) throw std::invalid_argument("fcl_rs::Environment: an obstacle named '" + name + "' exists");
   }
 
-  std::vector<WorldSphere<S>> placeLinks(const std::vector<Tf<S>>& poses) const
+  void placeLinks(const std::vector<Tf<S>>& poses, std::vector<WorldSphere<S>>& spheres) const
   {
-    std::vector<WorldSphere<S>> spheres(links.size());
+    spheres.resize(links.size());
     for (int link : geometric_links) spheres[link] = place(links[link], poses[link]);
-    return spheres;
   }
 
   /// The obstacles whose balls meet the box around every link ball (the robot's broad phase: one test per
   /// obstacle, so hundreds of far obstacles cost little).
-  std::vector<int> nearObstacles(const std::vector<WorldSphere<S>>& spheres) const
+  void nearObstacles(const std::vector<WorldSphere<S>>& spheres, std::vector<int>& near) const
   {
     fcl::Vector3<S> lo = fcl::Vector3<S>::Constant(std::numeric_limits<S>::infinity()), hi = -lo;
     for (int link : geometric_links)
@@ -470,7 +469,7 @@ struct Environment<S>::Impl
       lo = lo.cwiseMin(spheres[link].centre - fcl::Vector3<S>::Constant(spheres[link].reach));
       hi = hi.cwiseMax(spheres[link].centre + fcl::Vector3<S>::Constant(spheres[link].reach));
     }
-    std::vector<int> near;
+    near.clear();
     for (std::size_t i = 0; i < obstacles.size(); ++i)
     {
       if (obstacles[i].body.elements.empty()) continue;
@@ -478,7 +477,6 @@ struct Environment<S>::Impl
       const fcl::Vector3<S> outside = (lo - s.centre).cwiseMax(s.centre - hi).cwiseMax(S(0));
       if (outside.squaredNorm() <= s.reach * s.reach) near.push_back(int(i));
     }
-    return near;
   }
 
   /// The gap between a link's ball and the obstacle's own box (the ball's centre moved into the obstacle's
@@ -505,7 +503,15 @@ struct Environment<S>::Impl
     if (request.minimum_distance && bv == BVType::kOBB)
       throw std::invalid_argument("fcl_rs::Environment::query: FCL has no distance query for OBB trees; use RS, "
                                   "OBBRSS or RSS for minimum distances");
-    std::vector<Tf<S>> poses;
+    // Per thread, so that a query allocates nothing once its thread has run one (a planner makes millions).
+    struct Scratch
+    {
+      std::vector<Tf<S>> poses;
+      std::vector<WorldSphere<S>> spheres;
+      std::vector<int> near;
+    };
+    static thread_local Scratch scratch;
+    std::vector<Tf<S>>& poses = scratch.poses;
     self.kinematics().linkPoses(q, poses);
     EnvironmentResult<S> result;
     SelfCheckRequest self_request;
@@ -516,8 +522,10 @@ struct Environment<S>::Impl
     const bool stop_at_first = !request.colliding_pairs;
     if (result.colliding && stop_at_first && !request.minimum_distance) return result;
 
-    const std::vector<WorldSphere<S>> spheres = placeLinks(poses);
-    const std::vector<int> near = nearObstacles(spheres);
+    std::vector<WorldSphere<S>>& spheres = scratch.spheres;
+    std::vector<int>& near = scratch.near;
+    placeLinks(poses, spheres);
+    nearObstacles(spheres, near);
     if (!(result.colliding && stop_at_first))
       for (int link : geometric_links)
       {
@@ -594,7 +602,7 @@ struct Environment<S>::Impl
     s.t = t;
     const fcl::VectorX<S> q = from + t * (to - from);
     self.kinematics().linkPoses(q, s.poses);
-    s.spheres = placeLinks(s.poses);
+    placeLinks(s.poses, s.spheres);
     s.bound.assign(num_pairs, std::numeric_limits<S>::quiet_NaN());
     s.exact.assign(num_pairs, 0);
     return s;
