@@ -306,6 +306,38 @@ TYPED_TEST(EnvironmentTest, EveryShapeKindAgreesWithBruteForceAsItMoves)
   if (!test::kSanitized) EXPECT_GT(world, 0);
 }
 
+/// A link no joint moves (the Panda's base) meets an obstacle by an answer decided when the obstacle is added or
+/// moved: it must follow setPose and agree with brute force at every configuration.
+TYPED_TEST(EnvironmentTest, FixedLinksFollowObstaclesAsTheyMove)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  auto rng = test::seededRng("FixedLinksFollowObstaclesAsTheyMove/" + test::scalarName<S>());
+  for (BVType bv : {BVType::kRS, BVType::kOBB})
+  {
+    SCOPED_TRACE(bvTypeName(bv));
+    Environment<S> env(*panda(), bv, pandaSrdf());
+    std::vector<Reference<S>> refs = {{"plate", std::make_shared<fcl::Box<S>>(S(0.3), S(0.3), S(0.02)), at<S>(0, 0, S(0.05))}};
+    env.addShape(refs[0].name, refs[0].geometry, refs[0].pose);
+    const BodyPair base_on_plate{"panda_link0", "plate", false};
+    for (const S height : {S(0.05), S(-0.5), S(0.1)})
+    {
+      env.setPose("plate", refs[0].pose = at<S>(0, 0, height));
+      for (int i = 0; i < 3; ++i)
+      {
+        const fcl::VectorX<S> q = env.kinematics().randomConfiguration(rng);
+        SCOPED_TRACE(::testing::Message() << "plate at " << height << ", configuration " << q.transpose());
+        EnvironmentRequest request;
+        request.colliding_pairs = true;
+        const std::vector<BodyPair> pairs = env.query(q, request).pairs;
+        EXPECT_EQ(pairs, bruteForce(env, refs, q, /*distances=*/false).pairs);
+        EXPECT_EQ(std::count(pairs.begin(), pairs.end(), base_on_plate), height > 0 ? 1 : 0);
+        EXPECT_TRUE(!(height > 0) || env.query(q).colliding);
+      }
+    }
+  }
+}
+
 TYPED_TEST(EnvironmentTest, BadInputIsRefused)
 {
   using S = TypeParam;

@@ -220,6 +220,9 @@ struct Environment<S>::Impl
     /// setPose keeps it), for the direct paths of linkHitsObstacle; unset otherwise.
     const fcl::BVHModel<RS<S>>* rs_mesh = nullptr;
     std::optional<RS<S>> shape_bv;
+    /// Per link that no joint moves (Impl::fixed_pose): whether it touches the obstacle, decided when the obstacle
+    /// is added, moved or refreshed, since no configuration changes the answer.
+    std::vector<std::uint8_t> fixed_link_hits;
   };
 
   /// A pair a motion check certifies: a self pair (other_link >= 0) or a link and an obstacle.
@@ -257,6 +260,17 @@ struct Environment<S>::Impl
       if (!links[i].elements.empty()) geometric_links.push_back(i);
     }
     computeLevers(robot);
+    // Links no joint variable moves (a base on a table is tested once per obstacle, not at every query).
+    const std::vector<Tf<S>> poses = self.kinematics().linkPoses(self.kinematics().lower());
+    for (int link : geometric_links)
+    {
+      bool fixed = true;
+      for (int j = robot.links[link].parent_joint; j >= 0; j = robot.links[robot.joints[j].parent_link].parent_joint)
+        fixed = fixed && joint_variable[j] < 0;
+      if (fixed) fixed_pose.emplace_back(link, poses[link]);
+    }
+    fixed_link.assign(n, 0);
+    for (const auto& [link, pose] : fixed_pose) fixed_link[link] = 1;
   }
 
   /// levers[link][joint]: how far any point of the link can move per unit of the joint's value, for every joint
@@ -357,7 +371,16 @@ struct Environment<S>::Impl
           },
           [] {});
     }
+    touchFixedLinks(o);
     obstacles.push_back(std::move(o));
+  }
+
+  /// Sets o.fixed_link_hits at o's pose (after fit, for an octree's current cells).
+  void touchFixedLinks(Obstacle& o) const
+  {
+    o.fixed_link_hits.assign(links.size(), 0);
+    if (o.body.elements.empty()) return;
+    for (const auto& [link, pose] : fixed_pose) o.fixed_link_hits[link] = linkHitsObstacle(link, pose, o);
   }
 
   /// Whether the link at `pose` touches the obstacle (first contact): fcl_rs::collide's answer for each of the
@@ -530,8 +553,10 @@ struct Environment<S>::Impl
       for (int link : geometric_links)
       {
         for (int o : near)
-          if (!spheresApart(spheres[link], obstacles[o].sphere) && boxGap(spheres[link], obstacles[o]) <= 0 &&
-              linkHitsObstacle(link, poses[link], obstacles[o]))
+          if (fixed_link[link] ? obstacles[o].fixed_link_hits[link]
+                            : !spheresApart(spheres[link], obstacles[o].sphere) &&
+                                  boxGap(spheres[link], obstacles[o]) <= 0 &&
+                                  linkHitsObstacle(link, poses[link], obstacles[o]))
           {
             result.colliding = true;
             if (stop_at_first) break;
@@ -781,6 +806,8 @@ struct Environment<S>::Impl
   std::vector<std::vector<double>> link_weights;  ///< per link, per variable: sweep per unit
   double max_arm = 0;
   std::vector<Obstacle> obstacles;
+  std::vector<std::pair<int, Tf<S>>> fixed_pose;  ///< the geometric links no joint variable moves, at their pose
+  std::vector<std::uint8_t> fixed_link;           ///< per link: one of fixed_pose
 };
 
 template <typename S>
@@ -864,6 +891,7 @@ void Environment<S>::refreshOcTree(const std::string& name)
   if (o.geometry->getNodeType() != fcl::GEOM_OCTREE)
     throw std::invalid_argument("fcl_rs::Environment::refreshOcTree: obstacle '" + name + "' is not an octree");
   Impl::fit(o);
+  impl_->touchFixedLinks(o);
 }
 #endif
 
@@ -876,6 +904,7 @@ void Environment<S>::setPose(const std::string& name, const fcl::Transform3<S>& 
   o.pose = pose;
   o.from_world = pose.inverse(Eigen::Isometry);
   o.sphere = place(o.body, pose);
+  impl_->touchFixedLinks(o);
 }
 
 template <typename S>
