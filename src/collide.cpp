@@ -152,7 +152,6 @@ std::size_t meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::
       });
 }
 
-
 /// fcl::collide with both poses moved by -tf1's translation, so that FCL (libccd's GJK above all) sees the pair's
 /// relative placement: far from the origin absolute coordinates round the shapes' sizes away (libccd's GJK
 /// asserted from about 1e16 in double and looped for minutes at 1e7 in float), relative ones do not. Contacts and
@@ -167,8 +166,17 @@ std::size_t fclCollideRelative(const fcl::CollisionGeometry<S>* o1, const fcl::T
   fcl::Transform3<S> near1 = tf1, near2 = tf2;
   near1.translation().setZero();
   near2.translation() -= shift;
-  // A fresh result with the room the caller's has left: FCL counts the contacts already there.
   const std::size_t before = result.numContacts();
+  if (!request.enable_cost)
+  {
+    fcl::collide(o1, near1, o2, near2, request, result);
+    // FCL hands its contacts out as const, but they are the caller's own: moved back in place (no copy).
+    for (std::size_t i = before; i < result.numContacts(); ++i)
+      const_cast<fcl::Contact<S>&>(result.getContact(i)).pos += shift;
+    return result.numContacts();
+  }
+  // Cost sources are kept sorted and cannot be told apart afterwards: a fresh result with the room the caller's has
+  // left (FCL counts the contacts already there), merged back.
   const std::size_t room = request.num_max_contacts > before ? request.num_max_contacts - before : 0;
   fcl::CollisionRequest<S> local_request(request);
   local_request.num_max_contacts = std::max<std::size_t>(room, 1);
