@@ -84,8 +84,9 @@ struct MotionResult
 /// answers the same questions with its own trees) and octomaps (fcl::OcTree, when FCL has octomap support),
 /// which every link element meets with fcl_rs::collide's / fcl_rs::distance's answers (RS meshes on fcl_rs's
 /// traversals directly, each obstacle shape's RS fitted once in its own frame; octrees on fcl_rs's octree
-/// traversal; other BV types on FCL's). A link that no joint moves (a robot's base) meets each obstacle once,
-/// when the obstacle is added, moved or refreshed, not at every query.
+/// traversal; other BV types on FCL's; planes and halfspaces exactly here, see addShape). A link that no joint
+/// moves (a robot's base) meets each obstacle once, when the obstacle is added, moved or refreshed, not at every
+/// query.
 ///
 /// query answers self-collision and collision with the obstacles at one configuration; checkMotion answers it
 /// for every configuration of a straight joint-space segment, without sampling at a resolution: Schwarzer,
