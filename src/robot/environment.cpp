@@ -179,9 +179,10 @@ fcl::Vector3<S> linkShapeSupport(const fcl::CollisionGeometry<S>& geometry, cons
       [&](const auto& shape) -> fcl::Vector3<S> {
         using Shape = std::decay_t<decltype(shape)>;
         if constexpr (std::is_same_v<Shape, fcl::Box<S>>)
-          return fcl::Vector3<S>(u.x() < 0 ? -shape.side.x() : shape.side.x(), u.y() < 0 ? -shape.side.y() : shape.side.y(),
-                                 u.z() < 0 ? -shape.side.z() : shape.side.z()) /
-                 2;
+        {
+          const auto half = [](S side, S along) { return along < 0 ? -side / 2 : side / 2; };
+          return fcl::Vector3<S>(half(shape.side.x(), u.x()), half(shape.side.y(), u.y()), half(shape.side.z(), u.z()));
+        }
         else if constexpr (std::is_same_v<Shape, fcl::Sphere<S>>)
           return shape.radius * u;
         else if constexpr (std::is_same_v<Shape, fcl::Cylinder<S>>)
@@ -715,8 +716,9 @@ struct Environment<S>::Impl
       for (int link : geometric_links)
       {
         for (int o : near)
-          if (fixed_link[link] ? obstacles[o].fixed_link_hits[link]
-                               : mayTouch(spheres[link], obstacles[o]) && linkHitsObstacle(link, poses[link], obstacles[o]))
+          if (fixed_link[link]
+                  ? obstacles[o].fixed_link_hits[link]
+                  : mayTouch(spheres[link], obstacles[o]) && linkHitsObstacle(link, poses[link], obstacles[o]))
           {
             result.colliding = true;
             if (stop_at_first) break;
@@ -756,8 +758,9 @@ struct Environment<S>::Impl
     for (const Candidate& c : order)
     {
       if (c.bound >= best) break;
-      const S d = c.self ? bodiesDistance(links[c.first], poses[c.first], links[c.second], poses[c.second], best, points)
-                         : linkDistance(c.first, poses[c.first], obstacles[c.second], best, points);
+      const S d = c.self
+                      ? bodiesDistance(links[c.first], poses[c.first], links[c.second], poses[c.second], best, points)
+                      : linkDistance(c.first, poses[c.first], obstacles[c.second], best, points);
       if (d >= best) continue;
       best = d;
       result.nearest_pair = c.self ? selfPair({c.first, c.second}) : obstaclePair(c.first, c.second);
@@ -1013,11 +1016,11 @@ void Environment<S>::addShape(const std::string& name, std::shared_ptr<fcl::Coll
       [&](const auto& s) {
         if constexpr (std::is_same_v<std::decay_t<decltype(s)>, fcl::TriangleP<S>>)
           throw std::invalid_argument("fcl_rs::Environment::addShape: obstacle '" + name +
-                                      "' is a TriangleP, which FCL cannot test against link shapes; add it with addMesh");
+                                      "' is a TriangleP, which FCL cannot test against link shapes; use addMesh");
       },
       [&] {
         throw std::invalid_argument("fcl_rs::Environment::addShape: obstacle '" + name +
-                                    "' is not a primitive shape (meshes go through addMesh, octomaps through addOcTree)");
+                                    "' is not a primitive shape (meshes go through addMesh, octomaps addOcTree)");
       });
   requireValidShape(shape.get(), "fcl_rs::Environment::addShape", ("obstacle '" + name + "'").c_str());
   requireRigidTransform(pose, kApi, ("the pose of obstacle '" + name + "'").c_str());
