@@ -79,8 +79,8 @@ struct LinkSphere
 /// for the candidate that is nearest so far (link spheres; with RS the link volumes; per element pair the
 /// elements' balls, with RS their volumes, then the distance of their convex hulls by GJK: a mesh's vertices, a
 /// box's corners), and stops when the smallest bound reaches the best distance so far; each measurement starts
-/// at that best, so its traversal skips what cannot beat it. Exact distances between nearby links still cost far
-/// more than a collision check: about 40x on the Panda (docs/robots.md).
+/// at that best, so its traversal skips what cannot beat it. The exact distance of the nearest pair still costs
+/// far more than a collision check (docs/robots.md).
 ///
 /// How each BV type is queried (the fastest path FCL offers for it):
 /// * RS, OBBRSS, OBB, RSS: mesh-mesh in the links' own frames through collideWithStats (the relative
