@@ -5,9 +5,11 @@
 //                                                            path re-checked segment by segment
 //   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf --motions N [STEP]  exact motion checks against discrete ones at
 //                                                            0.01 rad on N seeded segments
-//   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf --benchmark N   N seeded queries per BV type and motion validator,
+//   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf --benchmark N [BUDGET] [--validator discrete|exact] [--bv RS,OBB,...]
+//                                                            N seeded queries per BV type and motion validator,
 //                                                            each BV type in its own process (same OMPL seed), the
-//                                                            searches asserted identical, times compared
+//                                                            searches asserted identical, times compared; the
+//                                                            state checks replayed for the self and world parts
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,6 +20,7 @@
 #include <functional>
 #include <ctime>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
@@ -66,20 +69,24 @@ struct Tally
   double seconds = 0;
 };
 
-/// A state is valid when the robot touches neither itself nor an obstacle.
+/// A state is valid when the robot touches neither itself nor an obstacle. Appends every checked state to
+/// `checked` when given (the benchmark replays them).
 class ValidityChecker : public ob::StateValidityChecker
 {
 public:
-  ValidityChecker(const ob::SpaceInformationPtr& si, const Environment<double>& env, Tally& tally)
-    : ob::StateValidityChecker(si), env_(env), dof_(env.kinematics().numVariables()), tally_(tally)
+  ValidityChecker(const ob::SpaceInformationPtr& si, const Environment<double>& env, Tally& tally,
+                  std::vector<Eigen::VectorXd>* checked)
+    : ob::StateValidityChecker(si), env_(env), dof_(env.kinematics().numVariables()), tally_(tally), checked_(checked)
   {
   }
   bool isValid(const ob::State* state) const override
   {
+    const Eigen::VectorXd q = toVector(state, dof_);
     const double start = threadSeconds();
-    const bool valid = !env_.query(toVector(state, dof_)).colliding;
+    const bool valid = !env_.query(q).colliding;
     tally_.seconds += threadSeconds() - start;
     ++tally_.calls;
+    if (checked_) checked_->push_back(q);
     return valid;
   }
 
@@ -87,6 +94,7 @@ private:
   const Environment<double>& env_;
   int dof_;
   Tally& tally_;
+  std::vector<Eigen::VectorXd>* checked_;
 };
 
 /// Every configuration of the straight segment is checked (Environment::checkMotion), not samples of it.
@@ -196,9 +204,10 @@ struct QueryStats
 };
 
 /// Plans one seeded query (start and goal drawn free from `seed`) with a budget of checks (state checks, OMPL's
-/// discrete validator's included, plus motion checks).
+/// discrete validator's included, plus motion checks); the planner's state checks are appended to `checked` when
+/// given.
 QueryStats plan(const Environment<double>& env, bool exact_motions, std::uint64_t seed, long budget,
-                og::PathGeometric* path_out = nullptr)
+                og::PathGeometric* path_out = nullptr, std::vector<Eigen::VectorXd>* checked = nullptr)
 {
   const fcl_rs::Kinematics<double>& kin = env.kinematics();
   const int dof = kin.numVariables();
@@ -212,7 +221,8 @@ QueryStats plan(const Environment<double>& env, bool exact_motions, std::uint64_
   space->setBounds(bounds);
   auto si = std::make_shared<ob::SpaceInformation>(space);
   Tally states, motions;
-  si->setStateValidityChecker(std::make_shared<ValidityChecker>(si, env, states));
+  si->setStateValidityChecker(std::make_shared<ValidityChecker>(si, env, states, checked));
+  const std::size_t checked_before = checked ? checked->size() : 0;
   std::shared_ptr<ob::MotionValidator> inner;
   if (exact_motions)
     inner = std::make_shared<ExactMotionValidator>(si, env);
@@ -238,6 +248,7 @@ QueryStats plan(const Environment<double>& env, bool exact_motions, std::uint64_
   planner.setProblemDefinition(pdef);
   planner.setup();
   states = Tally();  // the start and goal draws are not the planner's
+  if (checked) checked->resize(checked_before);
   const double t0 = threadSeconds();
   const ob::PlannerTerminationCondition out_of_budget([&] { return states.calls + motions.calls >= budget; });
   const ob::PlannerStatus status = planner.solve(out_of_budget);
@@ -263,7 +274,33 @@ QueryStats plan(const Environment<double>& env, bool exact_motions, std::uint64_
   return q;
 }
 
-/// The benchmark line of one BV type and validator (one process: OMPL's seed is global and set once).
+/// The planner's state checks replayed after planning, in the order it made them: the fastest of `passes` passes
+/// over all of them of the self check alone (SelfCollision::query, kinematics included) and of the whole check
+/// (Environment::query), interleaved. The world part is the difference.
+struct Replay
+{
+  double self_seconds = 0, whole_seconds = 0;
+};
+
+Replay replay(const Environment<double>& env, const std::vector<Eigen::VectorXd>& checked, int passes)
+{
+  Replay best{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  long colliding = 0;  // kept live, so that no check is optimised away
+  for (int pass = 0; pass < passes; ++pass)
+  {
+    double t0 = threadSeconds();
+    for (const Eigen::VectorXd& q : checked) colliding += env.selfCollision().query(q, {}).colliding;
+    best.self_seconds = std::min(best.self_seconds, threadSeconds() - t0);
+    t0 = threadSeconds();
+    for (const Eigen::VectorXd& q : checked) colliding += env.query(q).colliding;
+    best.whole_seconds = std::min(best.whole_seconds, threadSeconds() - t0);
+  }
+  if (colliding < 0) std::abort();
+  return best;
+}
+
+/// The benchmark lines of one BV type and validator (one process: OMPL's seed is global and set once): one per
+/// query, then the replay of the state checks.
 std::string benchmarkRun(const std::string& urdf, const std::string& srdf, fcl_rs::BVType bv, bool exact, int queries,
                          long budget)
 {
@@ -273,13 +310,16 @@ std::string benchmarkRun(const std::string& urdf, const std::string& srdf, fcl_r
   addScene(env, reachOf(robot));
   std::ostringstream out;
   out.precision(9);
+  std::vector<Eigen::VectorXd> checked;
   for (int i = 0; i < queries; ++i)
   {
-    const QueryStats q = plan(env, exact, 1000 + std::uint64_t(i), budget);
+    const QueryStats q = plan(env, exact, 1000 + std::uint64_t(i), budget, nullptr, &checked);
     out << i << ' ' << q.solved << ' ' << q.state_checks << ' ' << q.motion_checks << ' ' << q.path_states << ' '
         << (q.path_digest.empty() ? "-" : q.path_digest) << ' ' << q.plan_seconds << ' ' << q.state_seconds << ' '
         << q.motion_seconds << '\n';
   }
+  const Replay r = replay(env, checked, 3);
+  out << "replay " << checked.size() << ' ' << r.self_seconds << ' ' << r.whole_seconds << '\n';
   return out.str();
 }
 
@@ -312,6 +352,8 @@ struct Row
   std::string search;  ///< solved, checks, path per query: must be equal across BV types
   double plan = 0, state = 0, motion = 0;
   long states = 0, motions = 0, solved = 0;
+  long replayed = 0;
+  Replay replay;
 };
 
 Row parse(const std::string& text)
@@ -322,6 +364,12 @@ Row parse(const std::string& text)
   while (std::getline(in, line))
   {
     std::istringstream l(line);
+    if (line.rfind("replay ", 0) == 0)
+    {
+      std::string word;
+      l >> word >> row.replayed >> row.replay.self_seconds >> row.replay.whole_seconds;
+      continue;
+    }
     int index, solved;
     long states, motions;
     std::size_t path_states;
@@ -335,33 +383,37 @@ Row parse(const std::string& text)
   return row;
 }
 
-int benchmark(const std::string& urdf, const std::string& srdf, int queries, long budget)
+int benchmark(const std::string& urdf, const std::string& srdf, int queries, long budget,
+              const std::vector<bool>& validators, const std::vector<fcl_rs::BVType>& bvs)
 {
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
   bool identical = true;
-  for (bool exact : {false, true})
+  for (bool exact : validators)
   {
     std::cout << (exact ? "fcl_rs exact motion validator" : "OMPL discrete motion validator (default resolution)")
               << ", " << queries << " RRTConnect queries, budget " << budget << " state + motion checks each\n";
-    std::cout << "  BV      solved  state checks  motion checks  plan s   state us  motion us  plan / RS\n";
+    std::cout << "  BV      solved  state checks  motion checks  plan s   state us  motion us  plan / "
+              << fcl_rs::bvTypeName(bvs.front()) << "  replayed: self us  world us\n";
     std::string reference;
-    double rs_plan = 0;
-    for (fcl_rs::BVType bv : fcl_rs::kRobotBVTypes)
+    double first_plan = 0;
+    for (fcl_rs::BVType bv : bvs)
     {
-      if (bv == fcl_rs::BVType::kKDOP18) continue;  // not shareable (refitted in place)
       if (exact && bv == fcl_rs::BVType::kOBB) continue;  // FCL has no OBB distance
       const Row row = parse(inChild([&] { return benchmarkRun(urdf, srdf, bv, exact, queries, budget); }));
-      if (bv == fcl_rs::BVType::kRS)
+      if (reference.empty())
       {
         reference = row.search;
-        rs_plan = row.plan;
+        first_plan = row.plan;
       }
       const bool same = row.search == reference;
       identical = identical && same;
-      std::printf("  %-7s %6ld  %12ld  %13ld  %7.3f  %8.2f  %9.2f  %9.3f%s\n", fcl_rs::bvTypeName(bv), row.solved,
-                  row.states, row.motions, row.plan, 1e6 * row.state / double(std::max(1L, row.states)),
-                  1e6 * row.motion / double(std::max(1L, row.motions)), row.plan / rs_plan,
-                  same ? "" : "  SEARCH DIFFERS FROM RS");
+      const double replayed = double(std::max(1L, row.replayed));
+      std::printf("  %-7s %6ld  %12ld  %13ld  %7.3f  %8.2f  %9.2f  %9.3f  %17.2f  %8.2f%s\n", fcl_rs::bvTypeName(bv),
+                  row.solved, row.states, row.motions, row.plan, 1e6 * row.state / double(std::max(1L, row.states)),
+                  1e6 * row.motion / double(std::max(1L, row.motions)), row.plan / first_plan,
+                  1e6 * row.replay.self_seconds / replayed,
+                  1e6 * (row.replay.whole_seconds - row.replay.self_seconds) / replayed,
+                  same ? "" : "  SEARCH DIFFERS");
     }
   }
   std::cout << (identical ? "every BV type explored identical trees\n" : "SEARCHES DIFFER\n");
@@ -420,14 +472,43 @@ int main(int argc, char** argv)
   if (argc < 3)
   {
     std::cerr << "usage: " << argv[0]
-              << " ROBOT.urdf ROBOT.srdf [--benchmark QUERIES [BUDGET] | --motions SEGMENTS [STEP]]\n";
+              << " ROBOT.urdf ROBOT.srdf [--benchmark QUERIES [BUDGET] [--validator discrete|exact] [--bv RS,OBB,...] |"
+                 " --motions SEGMENTS [STEP]]\n";
     return 2;
   }
   const std::string urdf = argv[1], srdf = argv[2];
   if (argc >= 5 && std::strcmp(argv[3], "--motions") == 0)
     return compareMotions(urdf, srdf, std::stoi(argv[4]), argc >= 6 ? std::stod(argv[5]) : 0.5, 0.01);
   if (argc >= 5 && std::strcmp(argv[3], "--benchmark") == 0)
-    return benchmark(urdf, srdf, std::stoi(argv[4]), argc >= 6 ? std::stol(argv[5]) : 100000);
+  {
+    int arg = 5;
+    const long budget = argc > arg && argv[arg][0] != '-' ? std::stol(argv[arg++]) : 100000;
+    std::vector<bool> validators = {false, true};
+    std::vector<fcl_rs::BVType> bvs;  // KDOP18 trees are refitted in place per check: not shareable
+    for (fcl_rs::BVType bv : fcl_rs::kRobotBVTypes)
+      if (bv != fcl_rs::BVType::kKDOP18) bvs.push_back(bv);
+    for (; arg + 1 < argc; arg += 2)
+    {
+      const std::string option = argv[arg], value = argv[arg + 1];
+      if (option == "--validator" && (value == "discrete" || value == "exact"))
+        validators = {value == "exact"};
+      else if (option == "--bv")
+      {
+        bvs.clear();
+        std::istringstream names(value);
+        for (std::string name; std::getline(names, name, ',');) bvs.push_back(fcl_rs::parseBVType(name));
+      }
+      else
+        break;
+    }
+    if (arg != argc || bvs.empty())
+    {
+      std::cerr << "usage: " << argv[0]
+                << " ROBOT.urdf ROBOT.srdf --benchmark QUERIES [BUDGET] [--validator discrete|exact] [--bv RS,OBB,...]\n";
+      return 2;
+    }
+    return benchmark(urdf, srdf, std::stoi(argv[4]), budget, validators, bvs);
+  }
 
   ompl::RNG::setSeed(7);
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);

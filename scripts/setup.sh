@@ -23,9 +23,9 @@ while [ $# -gt 0 ]; do
 done
 
 # What the core and fcl_rs_compare need; the Python module adds its parts' packages; the tests, tools and other
-# benchmarks the rest.
-compare_packages=(cmake g++ ninja-build libfcl-dev libccd-dev libeigen3-dev libassimp-dev assimp-testmodels
-                  libcli11-dev)
+# benchmarks the rest. zlib1g-dev: Debian's assimp CMake targets link libz.so, which libassimp-dev does not pull in.
+compare_packages=(cmake g++ ninja-build libfcl-dev libccd-dev libeigen3-dev libassimp-dev zlib1g-dev
+                  assimp-testmodels libcli11-dev)
 python_packages=("${compare_packages[@]}" liburdfdom-dev libtinyxml2-dev libtbb-dev pybind11-dev python3-dev
                  python3-numpy)
 all_packages=("${python_packages[@]}" make libgtest-dev libbenchmark-dev libqhull-dev nlohmann-json3-dev

@@ -10,6 +10,11 @@
 #include <random>
 
 #include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/cone.h>
+#include <fcl/geometry/shape/convex.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/ellipsoid.h>
 #include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/math/bv/OBB.h>
@@ -252,6 +257,85 @@ TYPED_TEST(EnvironmentTest, ObstaclesAddedMovedAndRemoved)
   EXPECT_FALSE(near.colliding);
   EXPECT_EQ(near.nearest_pair.other, "near");
   EXPECT_FALSE(near.nearest_pair.other_is_link);
+}
+
+/// Every shape addShape takes meets the links on the environment's own path (RS: the shape's volume fitted once in
+/// its frame and placed per query); the pairs are fcl_rs::collide's, at the poses the shapes were added at and
+/// after setPose moves them.
+TYPED_TEST(EnvironmentTest, EveryShapeKindAgreesWithBruteForceAsItMoves)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  auto rng = test::seededRng("EveryShapeKindAgreesWithBruteForceAsItMoves/" + test::scalarName<S>());
+  auto tetrahedron = std::make_shared<std::vector<fcl::Vector3<S>>>(std::vector<fcl::Vector3<S>>{
+      {S(0.1), 0, 0}, {0, S(0.1), 0}, {0, 0, S(0.1)}, {S(-0.05), S(-0.05), S(-0.05)}});
+  auto faces = std::make_shared<std::vector<int>>(std::vector<int>{3, 0, 1, 2, 3, 0, 3, 1, 3, 0, 2, 3, 3, 1, 3, 2});
+  const std::vector<std::pair<std::string, std::shared_ptr<fcl::CollisionGeometry<S>>>> shapes = {
+      {"box", std::make_shared<fcl::Box<S>>(S(0.1), S(0.2), S(0.05))},
+      {"sphere", std::make_shared<fcl::Sphere<S>>(S(0.06))},
+      {"cylinder", std::make_shared<fcl::Cylinder<S>>(S(0.04), S(0.3))},
+      {"capsule", std::make_shared<fcl::Capsule<S>>(S(0.04), S(0.2))},
+      {"cone", std::make_shared<fcl::Cone<S>>(S(0.08), S(0.2))},
+      {"ellipsoid", std::make_shared<fcl::Ellipsoid<S>>(S(0.05), S(0.1), S(0.08))},
+      {"convex", std::make_shared<fcl::Convex<S>>(tetrahedron, 4, faces)}};
+  Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
+  std::vector<Reference<S>> refs;
+  for (const auto& [name, shape] : shapes)
+  {
+    refs.push_back({name, shape, test::randomPose<S>(rng, S(0.6))});
+    env.addShape(name, shape, refs.back().pose);
+  }
+  int world = 0;
+  for (int round = 0; round < 2; ++round)
+  {
+    if (round == 1)
+      for (Reference<S>& r : refs) env.setPose(r.name, r.pose = test::randomPose<S>(rng, S(0.6)));
+    for (int i = 0; i < (test::kSanitized ? 3 : 10); ++i)
+    {
+      const fcl::VectorX<S> q = env.kinematics().randomConfiguration(rng);
+      SCOPED_TRACE(::testing::Message() << "round " << round << ", configuration " << i << ": " << q.transpose());
+      EnvironmentRequest request;
+      request.colliding_pairs = true;
+      const EnvironmentResult<S> result = env.query(q, request);
+      EXPECT_EQ(result.pairs, bruteForce(env, refs, q, /*distances=*/false).pairs);
+      EXPECT_EQ(env.query(q).colliding, result.colliding);
+      world += int(std::count_if(result.pairs.begin(), result.pairs.end(),
+                                 [](const BodyPair& p) { return !p.other_is_link; }));
+    }
+  }
+  if (!test::kSanitized) EXPECT_GT(world, 0);
+}
+
+/// A link no joint moves (the Panda's base) meets an obstacle by an answer decided when the obstacle is added or
+/// moved: it must follow setPose and agree with brute force at every configuration.
+TYPED_TEST(EnvironmentTest, FixedLinksFollowObstaclesAsTheyMove)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  auto rng = test::seededRng("FixedLinksFollowObstaclesAsTheyMove/" + test::scalarName<S>());
+  for (BVType bv : {BVType::kRS, BVType::kOBB})
+  {
+    SCOPED_TRACE(bvTypeName(bv));
+    Environment<S> env(*panda(), bv, pandaSrdf());
+    std::vector<Reference<S>> refs = {{"plate", std::make_shared<fcl::Box<S>>(S(0.3), S(0.3), S(0.02)), at<S>(0, 0, S(0.05))}};
+    env.addShape(refs[0].name, refs[0].geometry, refs[0].pose);
+    const BodyPair base_on_plate{"panda_link0", "plate", false};
+    for (const S height : {S(0.05), S(-0.5), S(0.1)})
+    {
+      env.setPose("plate", refs[0].pose = at<S>(0, 0, height));
+      for (int i = 0; i < 3; ++i)
+      {
+        const fcl::VectorX<S> q = env.kinematics().randomConfiguration(rng);
+        SCOPED_TRACE(::testing::Message() << "plate at " << height << ", configuration " << q.transpose());
+        EnvironmentRequest request;
+        request.colliding_pairs = true;
+        const std::vector<BodyPair> pairs = env.query(q, request).pairs;
+        EXPECT_EQ(pairs, bruteForce(env, refs, q, /*distances=*/false).pairs);
+        EXPECT_EQ(std::count(pairs.begin(), pairs.end(), base_on_plate), height > 0 ? 1 : 0);
+        EXPECT_TRUE(!(height > 0) || env.query(q).colliding);
+      }
+    }
+  }
 }
 
 TYPED_TEST(EnvironmentTest, BadInputIsRefused)

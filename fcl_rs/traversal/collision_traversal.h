@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -362,6 +363,37 @@ void collideMeshShape(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver
 {
   detail::MeshShapeCollisionDescent<MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>> descent(node);
   detail::descendDepthFirst(descent, {0}, detail::DescentConfig{64});
+}
+
+/// Mesh-shape collision of a shape queried at many poses (a robot's link shapes, a planning scene's obstacles):
+/// bv_in_shape is its RS fitted once in its own frame (fcl::computeBV with the identity), placed per query
+/// rather than refitted. The mesh's root is tested against it before the traversal is set up: most shapes that
+/// pass a caller's cheaper culling (balls, boxes) are still apart from the root, and a query that visits one node
+/// should not pay the traversal's set-up. The root test covers the leaf test's tolerance, as the traversal's
+/// bound does, so it prunes nothing fcl_rs::collide would report. The answer is fcl_rs::collide's for the
+/// same request; result gets its contacts.
+template <typename Shape, typename NarrowPhaseSolver>
+bool collidePlacedShape(const fcl::BVHModel<RS<typename Shape::S>>& mesh, const fcl::Transform3<typename Shape::S>& tf_mesh,
+                        const Shape& shape, const RS<typename Shape::S>& bv_in_shape,
+                        const fcl::Transform3<typename Shape::S>& tf_shape, const NarrowPhaseSolver& solver,
+                        const fcl::CollisionRequest<typename Shape::S>& request,
+                        fcl::CollisionResult<typename Shape::S>& result)
+{
+  using S = typename Shape::S;
+  const fcl::Transform3<S> shape_in_mesh = tf_mesh.inverse(Eigen::Isometry) * tf_shape;
+  const S offsets = detail::leafBoundOffsets(mesh, TriangleShapeLeaf<Shape>(shape, tf_mesh, tf_shape));
+  const fcl::Matrix3<S> R = shape_in_mesh.linear();
+  const fcl::Vector3<S> T = shape_in_mesh.translation();
+  if (!overlap(R, T, mesh.getBV(0).bv, bv_in_shape, kDefaultOverlapTest, offsets))
+    return false;
+  MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver> node;
+  if constexpr (std::is_same<Shape, fcl::Sphere<S>>::value)  // its bound needs no fitted volume
+    initialize(node, mesh, tf_mesh, shape, tf_shape, &solver, request, result);
+  else
+    initialize(node, mesh, tf_mesh, shape, tf_shape, &solver, request, result,
+               std::optional<ShapeBound<S, Shape>>(std::in_place, bv_in_shape, shape_in_mesh));
+  collideMeshShape(node);
+  return result.isCollision();
 }
 
 }  // namespace fcl_rs

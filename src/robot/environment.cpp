@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 
 #include <fcl/math/bv/AABB.h>
 #include <fcl/math/bv/OBB.h>
@@ -17,9 +18,16 @@
 #include <fcl/geometry/octree/octree.h>
 #endif
 
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/detail/gjk_solver_libccd.h>
+
+#include "../validated_entries.h"
+#include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/collide.h"
 #include "fcl_rs/distance.h"
+#include "fcl_rs/traversal/collision_traversal.h"
+#include "fcl_rs/traversal/shape_switch.h"
 #include "fcl_rs/validate.h"
 
 namespace fcl_rs {
@@ -80,7 +88,8 @@ bool spheresApart(const WorldSphere<S>& a, const WorldSphere<S>& b)
   return (a.centre - b.centre).squaredNorm() > reach * reach;
 }
 
-/// Whether any element of a touches any element of b (FCL's and fcl_rs's exact tests, first contact).
+/// Whether any element of a touches any element of b (FCL's and fcl_rs's exact tests, first contact): link pairs
+/// of motion checks (obstacles take Environment's own path, linkHitsObstacle).
 template <typename S>
 bool bodiesCollide(const Body<S>& a, const Tf<S>& ta, const Body<S>& b, const Tf<S>& tb)
 {
@@ -184,6 +193,12 @@ std::optional<fcl::AABB<S>> occupiedCells(const fcl::OcTree<S>& octree)
 
 }  // namespace
 
+/// Shapes whose RS volume bounds them (collidePlacedShape): all that addShape takes; planes and halfspaces are
+/// unbounded.
+template <typename Shape>
+constexpr bool placeable =
+    !std::is_same_v<Shape, fcl::Plane<typename Shape::S>> && !std::is_same_v<Shape, fcl::Halfspace<typename Shape::S>>;
+
 /// The relative error motion checks allow their distances: a lower bound within this factor of the distance
 /// certifies nearly as much and prunes far more of the trees.
 constexpr double kMotionDistanceError = 0.25;
@@ -201,6 +216,13 @@ struct Environment<S>::Impl
     WorldSphere<S> sphere;  ///< at pose
     fcl::AABB<S> box;       ///< the geometry's box in its own frame (tighter than the ball for slabs such as tables;
                             ///< an octree's: its occupied cells')
+    /// In an RS environment: the mesh's tree, or a shape's RS fitted once in its own frame (placed per query, so
+    /// setPose keeps it), for the direct paths of linkHitsObstacle; unset otherwise.
+    const fcl::BVHModel<RS<S>>* rs_mesh = nullptr;
+    std::optional<RS<S>> shape_bv;
+    /// Per link that no joint moves (Impl::fixed_pose): whether it touches the obstacle, decided when the obstacle
+    /// is added, moved or refreshed, since no configuration changes the answer.
+    std::vector<std::uint8_t> fixed_link_hits;
   };
 
   /// A pair a motion check certifies: a self pair (other_link >= 0) or a link and an obstacle.
@@ -238,6 +260,17 @@ struct Environment<S>::Impl
       if (!links[i].elements.empty()) geometric_links.push_back(i);
     }
     computeLevers(robot);
+    // Links no joint variable moves (a base on a table is tested once per obstacle, not at every query).
+    const std::vector<Tf<S>> poses = self.kinematics().linkPoses(self.kinematics().lower());
+    for (int link : geometric_links)
+    {
+      bool fixed = true;
+      for (int j = robot.links[link].parent_joint; j >= 0; j = robot.links[robot.joints[j].parent_link].parent_joint)
+        fixed = fixed && joint_variable[j] < 0;
+      if (fixed) fixed_pose.emplace_back(link, poses[link]);
+    }
+    fixed_link.assign(n, 0);
+    for (const auto& [link, pose] : fixed_pose) fixed_link[link] = 1;
   }
 
   /// levers[link][joint]: how far any point of the link can move per unit of the joint's value, for every joint
@@ -323,7 +356,86 @@ struct Environment<S>::Impl
     o.pose = pose;
     o.from_world = pose.inverse(Eigen::Isometry);
     fit(o);
+    if (bv == BVType::kRS)
+    {
+      o.rs_mesh = dynamic_cast<const fcl::BVHModel<RS<S>>*>(o.geometry.get());
+      detail::withShape(
+          *o.geometry,
+          [&](const auto& shape) {
+            if constexpr (placeable<std::decay_t<decltype(shape)>>)
+            {
+              RS<S> fitted;
+              fcl::computeBV(shape, Tf<S>::Identity(), fitted);
+              o.shape_bv = fitted;
+            }
+          },
+          [] {});
+    }
+    touchFixedLinks(o);
     obstacles.push_back(std::move(o));
+  }
+
+  /// Sets o.fixed_link_hits at o's pose (after fit, for an octree's current cells).
+  void touchFixedLinks(Obstacle& o) const
+  {
+    o.fixed_link_hits.assign(links.size(), 0);
+    if (o.body.elements.empty()) return;
+    for (const auto& [link, pose] : fixed_pose) o.fixed_link_hits[link] = linkHitsObstacle(link, pose, o);
+  }
+
+  /// Whether the link at `pose` touches the obstacle (first contact): fcl_rs::collide's answer for each of the
+  /// link's elements, without its per-call validation (the poses come from kinematics and validated obstacle poses,
+  /// the request is fixed). RS link meshes meet RS mesh obstacles on the tree traversal directly and shapes through
+  /// collidePlacedShape with the shape's volume fitted once (fcl_rs::collide would refit it per call); FCL's BV
+  /// types take fcl::collide, as SelfCollision queries them.
+  bool linkHitsObstacle(int link, const Tf<S>& pose, const Obstacle& o) const
+  {
+    const fcl::CollisionRequest<S> request(/*num_max_contacts=*/1, /*enable_contact=*/false);
+    for (const LinkElement<S>& e : links[link].elements)
+    {
+      const Tf<S> tf = pose * e.origin;
+      fcl::CollisionResult<S> result;
+      if (bv != BVType::kRS)
+      {
+        if (fcl::collide(e.geometry, tf, o.geometry.get(), o.pose, request, result) > 0) return true;
+        continue;
+      }
+      if (e.geometry->getObjectType() == fcl::OT_BVH && (o.rs_mesh || o.shape_bv))
+      {
+        const auto& mesh = static_cast<const fcl::BVHModel<RS<S>>&>(*e.geometry);
+        if (o.rs_mesh ? meshHitsMesh(mesh, tf, *o.rs_mesh, o.pose, request, result)
+                      : meshHitsShape(mesh, tf, o, request, result))
+          return true;
+        continue;
+      }
+      if (detail::collideValidated(e.geometry, tf, o.geometry.get(), o.pose, request, result) > 0) return true;
+    }
+    return false;
+  }
+
+  static bool meshHitsMesh(const fcl::BVHModel<RS<S>>& a, const Tf<S>& ta, const fcl::BVHModel<RS<S>>& b,
+                           const Tf<S>& tb, const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+  {
+    MeshCollisionTraversalNodeRS<S> node;
+    initialize(node, a, ta, b, tb, request, result);
+    collideTrees(node);
+    return result.isCollision();
+  }
+
+  static bool meshHitsShape(const fcl::BVHModel<RS<S>>& mesh, const Tf<S>& tf, const Obstacle& o,
+                            const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+  {
+    fcl::detail::GJKSolver_libccd<S> solver;
+    solver.collision_tolerance = request.gjk_tolerance;
+    return detail::withShape(
+        *o.geometry,
+        [&](const auto& shape) -> bool {
+          if constexpr (placeable<std::decay_t<decltype(shape)>>)
+            return collidePlacedShape(mesh, tf, shape, *o.shape_bv, o.pose, solver, request, result);
+          else
+            throw std::logic_error("fcl_rs::Environment: an unbounded shape has no fitted volume");
+        },
+        []() -> bool { throw std::logic_error("fcl_rs::Environment: an obstacle with a fitted volume is no shape"); });
   }
 
   /// The obstacle's element and culling volumes, from what of its geometry can touch a link: all of it, or an
@@ -364,16 +476,15 @@ struct Environment<S>::Impl
     if (find(name) >= 0) throw std::invalid_argument("fcl_rs::Environment: an obstacle named '" + name + "' exists");
   }
 
-  std::vector<WorldSphere<S>> placeLinks(const std::vector<Tf<S>>& poses) const
+  void placeLinks(const std::vector<Tf<S>>& poses, std::vector<WorldSphere<S>>& spheres) const
   {
-    std::vector<WorldSphere<S>> spheres(links.size());
+    spheres.resize(links.size());
     for (int link : geometric_links) spheres[link] = place(links[link], poses[link]);
-    return spheres;
   }
 
   /// The obstacles whose balls meet the box around every link ball (the robot's broad phase: one test per
   /// obstacle, so hundreds of far obstacles cost little).
-  std::vector<int> nearObstacles(const std::vector<WorldSphere<S>>& spheres) const
+  void nearObstacles(const std::vector<WorldSphere<S>>& spheres, std::vector<int>& near) const
   {
     fcl::Vector3<S> lo = fcl::Vector3<S>::Constant(std::numeric_limits<S>::infinity()), hi = -lo;
     for (int link : geometric_links)
@@ -381,7 +492,7 @@ struct Environment<S>::Impl
       lo = lo.cwiseMin(spheres[link].centre - fcl::Vector3<S>::Constant(spheres[link].reach));
       hi = hi.cwiseMax(spheres[link].centre + fcl::Vector3<S>::Constant(spheres[link].reach));
     }
-    std::vector<int> near;
+    near.clear();
     for (std::size_t i = 0; i < obstacles.size(); ++i)
     {
       if (obstacles[i].body.elements.empty()) continue;
@@ -389,7 +500,6 @@ struct Environment<S>::Impl
       const fcl::Vector3<S> outside = (lo - s.centre).cwiseMax(s.centre - hi).cwiseMax(S(0));
       if (outside.squaredNorm() <= s.reach * s.reach) near.push_back(int(i));
     }
-    return near;
   }
 
   /// The gap between a link's ball and the obstacle's own box (the ball's centre moved into the obstacle's
@@ -416,7 +526,15 @@ struct Environment<S>::Impl
     if (request.minimum_distance && bv == BVType::kOBB)
       throw std::invalid_argument("fcl_rs::Environment::query: FCL has no distance query for OBB trees; use RS, "
                                   "OBBRSS or RSS for minimum distances");
-    std::vector<Tf<S>> poses;
+    // Per thread, so that a query allocates nothing once its thread has run one (a planner makes millions).
+    struct Scratch
+    {
+      std::vector<Tf<S>> poses;
+      std::vector<WorldSphere<S>> spheres;
+      std::vector<int> near;
+    };
+    static thread_local Scratch scratch;
+    std::vector<Tf<S>>& poses = scratch.poses;
     self.kinematics().linkPoses(q, poses);
     EnvironmentResult<S> result;
     SelfCheckRequest self_request;
@@ -427,14 +545,18 @@ struct Environment<S>::Impl
     const bool stop_at_first = !request.colliding_pairs;
     if (result.colliding && stop_at_first && !request.minimum_distance) return result;
 
-    const std::vector<WorldSphere<S>> spheres = placeLinks(poses);
-    const std::vector<int> near = nearObstacles(spheres);
+    std::vector<WorldSphere<S>>& spheres = scratch.spheres;
+    std::vector<int>& near = scratch.near;
+    placeLinks(poses, spheres);
+    nearObstacles(spheres, near);
     if (!(result.colliding && stop_at_first))
       for (int link : geometric_links)
       {
         for (int o : near)
-          if (!spheresApart(spheres[link], obstacles[o].sphere) && boxGap(spheres[link], obstacles[o]) <= 0 &&
-              bodiesCollide(links[link], poses[link], obstacles[o].body, obstacles[o].pose))
+          if (fixed_link[link] ? obstacles[o].fixed_link_hits[link]
+                            : !spheresApart(spheres[link], obstacles[o].sphere) &&
+                                  boxGap(spheres[link], obstacles[o]) <= 0 &&
+                                  linkHitsObstacle(link, poses[link], obstacles[o]))
           {
             result.colliding = true;
             if (stop_at_first) break;
@@ -505,7 +627,7 @@ struct Environment<S>::Impl
     s.t = t;
     const fcl::VectorX<S> q = from + t * (to - from);
     self.kinematics().linkPoses(q, s.poses);
-    s.spheres = placeLinks(s.poses);
+    placeLinks(s.poses, s.spheres);
     s.bound.assign(num_pairs, std::numeric_limits<S>::quiet_NaN());
     s.exact.assign(num_pairs, 0);
     return s;
@@ -535,7 +657,8 @@ struct Environment<S>::Impl
     s.exact[i] = 1;
     const Body<S>& other = p.other_link >= 0 ? links[p.other_link] : obstacles[p.obstacle].body;
     const Tf<S>& other_pose = p.other_link >= 0 ? s.poses[p.other_link] : obstacles[p.obstacle].pose;
-    if (bodiesCollide(links[p.link], s.poses[p.link], other, other_pose))
+    if (p.other_link >= 0 ? bodiesCollide(links[p.link], s.poses[p.link], other, other_pose)
+                          : linkHitsObstacle(p.link, s.poses[p.link], obstacles[p.obstacle]))
     {
       s.bound[i] = 0;
       s.colliding = true;
@@ -683,6 +806,8 @@ struct Environment<S>::Impl
   std::vector<std::vector<double>> link_weights;  ///< per link, per variable: sweep per unit
   double max_arm = 0;
   std::vector<Obstacle> obstacles;
+  std::vector<std::pair<int, Tf<S>>> fixed_pose;  ///< the geometric links no joint variable moves, at their pose
+  std::vector<std::uint8_t> fixed_link;           ///< per link: one of fixed_pose
 };
 
 template <typename S>
@@ -766,6 +891,7 @@ void Environment<S>::refreshOcTree(const std::string& name)
   if (o.geometry->getNodeType() != fcl::GEOM_OCTREE)
     throw std::invalid_argument("fcl_rs::Environment::refreshOcTree: obstacle '" + name + "' is not an octree");
   Impl::fit(o);
+  impl_->touchFixedLinks(o);
 }
 #endif
 
@@ -778,6 +904,7 @@ void Environment<S>::setPose(const std::string& name, const fcl::Transform3<S>& 
   o.pose = pose;
   o.from_world = pose.inverse(Eigen::Isometry);
   o.sphere = place(o.body, pose);
+  impl_->touchFixedLinks(o);
 }
 
 template <typename S>

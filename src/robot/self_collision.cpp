@@ -110,7 +110,7 @@ class MeshTrees
 public:
   virtual ~MeshTrees() = default;
   /// Called once per check before any test, with the poses every test of the check uses.
-  virtual void setPoses(const std::vector<Tf<S>>& /*poses*/) const {}
+  virtual void setPoses(const Tf<S>* /*poses*/) const {}
   virtual bool meshMesh(int a, const Tf<S>& ta, int b, const Tf<S>& tb, const fcl::CollisionRequest<S>& request,
                         QueryStats* stats) const = 0;
   virtual bool meshShape(int a, const Tf<S>& ta, const LinkShape<S>& shape, const Tf<S>& ts,
@@ -166,25 +166,10 @@ private:
   bool meshShapeRS(int a, const Tf<S>& ta, const Shape& geometry, const LinkShape<S>& shape, const Tf<S>& ts,
                    const fcl::CollisionRequest<S>& request) const
   {
-    // Most shapes that pass the link test are still apart from the mesh's root: one plain RS test decides them
-    // before the shape's volume is placed and the traversal set up (cost proportional to the nodes visited).
-    const Tf<S> shape_in_mesh = ta.inverse(Eigen::Isometry) * ts;
-    const fcl::Matrix3<S> R = shape_in_mesh.linear();
-    const fcl::Vector3<S> T = shape_in_mesh.translation();
-    if (!overlap(R, T, models_[a]->getBV(0).bv, shape.bv, kDefaultOverlapTest, worldOffsets(ta, ts)))
-      return false;
-    using Solver = fcl::detail::GJKSolver_libccd<S>;
-    Solver solver;
+    fcl::detail::GJKSolver_libccd<S> solver;
     solver.collision_tolerance = request.gjk_tolerance;
-    MeshShapeCollisionTraversalNodeRS<Shape, Solver> node;
     fcl::CollisionResult<S> result;
-    if constexpr (std::is_same<Shape, fcl::Sphere<S>>::value)  // its bound needs no fitted volume
-      initialize(node, *models_[a], ta, geometry, ts, &solver, request, result);
-    else
-      initialize(node, *models_[a], ta, geometry, ts, &solver, request, result,
-                 std::optional<ShapeBound<S, Shape>>(std::in_place, shape.bv, shape_in_mesh));
-    collideMeshShape(node);
-    return result.isCollision();
+    return collidePlacedShape(*models_[a], ta, geometry, shape.bv, ts, solver, request, result);
   }
 
   std::vector<std::shared_ptr<fcl::BVHModel<BV>>> models_;
@@ -207,9 +192,9 @@ public:
     }
     current_.assign(meshes.size(), false);
   }
-  void setPoses(const std::vector<Tf<S>>& poses) const override
+  void setPoses(const Tf<S>* poses) const override
   {
-    poses_ = &poses;
+    poses_ = poses;
     std::fill(current_.begin(), current_.end(), false);
   }
   bool meshMesh(int a, const Tf<S>&, int b, const Tf<S>&, const fcl::CollisionRequest<S>& request,
@@ -245,7 +230,7 @@ private:
   {
     fcl::BVHModel<BV>& m = *models_[link];
     if (current_[link]) return m;
-    const Tf<S>& pose = (*poses_)[link];
+    const Tf<S>& pose = poses_[link];
     m.beginReplaceModel();
     for (const auto& v : local_[link]) m.replaceVertex(pose * v);
     m.endReplaceModel(/*refit=*/true, /*bottomup=*/true);
@@ -266,7 +251,7 @@ private:
   std::vector<std::shared_ptr<fcl::BVHModel<BV>>> models_;
   std::vector<std::vector<fcl::Vector3<S>>> local_;
   mutable std::vector<bool> current_;
-  mutable const std::vector<Tf<S>>* poses_ = nullptr;
+  mutable const Tf<S>* poses_ = nullptr;
   Solver solver_;
 };
 
@@ -373,11 +358,11 @@ struct SelfCollision<S>::Impl
     fcl::Vector3<S> centre;
     S reach;
   };
-  /// What a check computes once per configuration: the link poses and the links' spheres at those poses (a
-  /// link takes part in several pairs).
+  /// What a check computes once per configuration: the links' spheres at the link poses (a link takes part in
+  /// several pairs). The poses are the caller's, one per link, and outlive the check.
   struct Placement
   {
-    std::vector<Tf<S>> poses;
+    const Tf<S>* poses = nullptr;
     std::vector<WorldSphere> spheres;
   };
 
@@ -609,7 +594,8 @@ struct SelfCollision<S>::Impl
   std::vector<Link> links;
   std::vector<LinkPair> pairs;
   std::unique_ptr<MeshTrees<S>> trees;
-  Placement placement;  ///< scratch of the non-const checks
+  std::vector<Tf<S>> poses;  ///< scratch of the non-const checks
+  Placement placement;       ///< their placement, of poses
   /// The index in pairs of the pair a first-contact check found last, -1 before any: a hint only, so threads
   /// sharing the checker may overwrite each other's (any value in range gives the same answers).
   mutable std::atomic<int> last_hit{-1};
@@ -761,7 +747,8 @@ const std::vector<LinkPair>& SelfCollision<S>::pairs() const
 template <typename S>
 std::vector<LinkPair> SelfCollision<S>::check(const fcl::VectorX<S>& q, QueryStats* stats)
 {
-  impl_->kinematics.linkPoses(q, impl_->placement.poses);
+  impl_->kinematics.linkPoses(q, impl_->poses);
+  impl_->placement.poses = impl_->poses.data();
   return impl_->testPairs(impl_->placement, stats, /*stop_at_first=*/false);
 }
 
@@ -772,21 +759,22 @@ std::vector<LinkPair> SelfCollision<S>::checkPoses(const std::vector<fcl::Transf
     throw std::invalid_argument("fcl_rs::SelfCollision: " + std::to_string(poses.size()) + " poses for " +
                                 std::to_string(impl_->links.size()) + " links");
   requireRigidTransforms(poses, "fcl_rs::SelfCollision::checkPoses", "poses");
-  impl_->placement.poses = poses;
+  impl_->placement.poses = poses.data();
   return impl_->testPairs(impl_->placement, stats, /*stop_at_first=*/false);
 }
 
 template <typename S>
 bool SelfCollision<S>::inCollision(const fcl::VectorX<S>& q)
 {
-  impl_->kinematics.linkPoses(q, impl_->placement.poses);
+  impl_->kinematics.linkPoses(q, impl_->poses);
+  impl_->placement.poses = impl_->poses.data();
   return !impl_->testPairs(impl_->placement, nullptr, /*stop_at_first=*/true).empty();
 }
 
 template <typename S>
 SelfCheckResult<S> SelfCollision<S>::query(const fcl::VectorX<S>& q, const SelfCheckRequest& request) const
 {
-  std::vector<fcl::Transform3<S>> poses;
+  static thread_local std::vector<fcl::Transform3<S>> poses;  // per thread, as queryPoses's placement
   impl_->kinematics.linkPoses(q, poses);
   return queryPoses(poses, request);
 }
@@ -804,8 +792,9 @@ SelfCheckResult<S> SelfCollision<S>::queryPoses(const std::vector<fcl::Transform
   if (poses.size() != impl_->links.size())
     throw std::invalid_argument("fcl_rs::SelfCollision::queryPoses: " + std::to_string(poses.size()) +
                                 " poses for " + std::to_string(impl_->links.size()) + " links");
-  typename Impl::Placement placement;
-  placement.poses = poses;
+  // Per thread, so that a query allocates nothing once its thread has run one (a planner makes millions).
+  static thread_local typename Impl::Placement placement;
+  placement.poses = poses.data();
   SelfCheckResult<S> result;
   result.pairs = impl_->testPairs(placement, nullptr, /*stop_at_first=*/!request.colliding_pairs);
   result.colliding = !result.pairs.empty();
