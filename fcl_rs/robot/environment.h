@@ -82,8 +82,10 @@ struct MotionResult
 /// A robot (its SelfCollision checker, built here: link trees once) and named obstacles placed in the robot's
 /// root frame: FCL shapes, triangle meshes built as trees of the checker's BV type (so that every BV type
 /// answers the same questions with its own trees) and octomaps (fcl::OcTree, when FCL has octomap support),
-/// which every link element meets through fcl_rs::collide / fcl_rs::distance (RS meshes on fcl_rs's octree
-/// traversal, other meshes and shapes on FCL's).
+/// which every link element meets with fcl_rs::collide's / fcl_rs::distance's answers (RS meshes on fcl_rs's
+/// traversals directly, each obstacle shape's RS fitted once in its own frame; octrees on fcl_rs's octree
+/// traversal; other BV types on FCL's). A link that no joint moves (a robot's base) meets each obstacle once,
+/// when the obstacle is added, moved or refreshed, not at every query.
 ///
 /// query answers self-collision and collision with the obstacles at one configuration; checkMotion answers it
 /// for every configuration of a straight joint-space segment, without sampling at a resolution: Schwarzer,
