@@ -206,28 +206,24 @@ inline Closest triangleTriangle(const Vec t[3], const Vec u[3])
   return Closest{std::sqrt(c.sq_distance), c.on_a, c.on_b};
 }
 
-/// Closest points of the triangle and a convex shape given by its support function (the point of the shape
-/// farthest along a direction), by GJK on the Minkowski difference triangle - shape with the closest point of
-/// each simplex found by closestOnTriangle. Stops when the pair is certified farther apart than `apart` (the
-/// collision verdict needs no more), when it is within `touch` (meeting), or when the lower bound is within
-/// kIterativeRelativeGap of the distance reached. lower: the certified lower bound reached.
-template <typename Support>
-Closest gjk(const Vec t[3], const Support& support, double touch, double apart, double& lower)
+/// A point of the Minkowski difference A - B: a on A, b on B, w = a - b.
+struct DifferencePoint
 {
-  struct Point
-  {
-    Vec a, b, w;  // on the triangle, on the shape, a - b
-  };
-  const auto supportOf = [&](const Vec& d) {  // the Minkowski difference's support along -d
-    int best = 0;
-    for (int i = 1; i < 3; ++i)
-      if (t[i].dot(d) < t[best].dot(d)) best = i;
-    const Vec b = support(d);
-    return Point{t[best], b, t[best] - b};
-  };
+  Vec a, b, w;
+};
+
+/// Closest points of two convex sets A and B (on_triangle on A, on_shape on B), by GJK on their Minkowski
+/// difference with the closest point of each simplex found by closestOnTriangle. supportOf(d) is the difference's
+/// point lowest along d (A's lowest and B's highest, a DifferencePoint); the first point is supportOf(start).
+/// Stops when the pair is certified farther apart than `apart`, when it is within `touch` (meeting), or when the
+/// lower bound is within kIterativeRelativeGap of the distance reached. lower: the certified lower bound reached.
+template <typename SupportOf>
+Closest gjk(const SupportOf& supportOf, const Vec& start, double touch, double apart, double& lower)
+{
+  using Point = DifferencePoint;
   std::array<Point, 4> simplex;
   int size = 1;
-  simplex[0] = supportOf(-t[0]);
+  simplex[0] = supportOf(start);
   Vec v = simplex[0].w;
   double weights[4] = {1, 0, 0, 0};
   lower = 0;
@@ -314,6 +310,50 @@ Closest gjk(const Vec t[3], const Support& support, double touch, double apart, 
     v = closest;
   }
   return finish();
+}
+
+/// A lower bound on the distance between the convex hulls of points a (posed by pa) and points b (posed by pb),
+/// each at least one point: gjk's certified bound, from `start` (roughly from b towards a), stopped once it
+/// exceeds `enough` (a caller that only asks whether the hulls are that far apart needs no more). Exact but for
+/// rounding, a few ulps of the points' and poses' scale.
+inline double hullsLowerBound(const std::vector<Vec>& a, const Eigen::Isometry3d& pa, const std::vector<Vec>& b,
+                              const Eigen::Isometry3d& pb, const Vec& start, double enough)
+{
+  const Eigen::Matrix3d ra = pa.linear().transpose(), rb = pb.linear().transpose();
+  const auto lowest = [](const std::vector<Vec>& points, const Vec& d) -> const Vec& {
+    std::size_t best = 0;
+    double lowest_value = points[0].dot(d);
+    for (std::size_t i = 1; i < points.size(); ++i)
+    {
+      const double value = points[i].dot(d);
+      if (value < lowest_value) lowest_value = value, best = i;
+    }
+    return points[best];
+  };
+  // The difference's point lowest along d: a's lowest point and b's highest.
+  const auto supportOf = [&](const Vec& d) {
+    const Vec pa_point = pa * lowest(a, ra * d);
+    const Vec pb_point = pb * lowest(b, rb * Vec(-d));
+    return DifferencePoint{pa_point, pb_point, pa_point - pb_point};
+  };
+  double lower = 0;
+  gjk(supportOf, start, 0, enough, lower);
+  return lower;
+}
+
+/// gjk for a triangle (A) and a convex shape (B) given by its support function (the point of the shape farthest
+/// along a direction): the collision verdict stops at `apart`.
+template <typename Support>
+Closest gjk(const Vec t[3], const Support& support, double touch, double apart, double& lower)
+{
+  const auto supportOf = [&](const Vec& d) {
+    int best = 0;
+    for (int i = 1; i < 3; ++i)
+      if (t[i].dot(d) < t[best].dot(d)) best = i;
+    const Vec b = support(d);
+    return DifferencePoint{t[best], b, t[best] - b};
+  };
+  return gjk(supportOf, Vec(-t[0]), touch, apart, lower);
 }
 
 /// A primitive in its own frame: `meets` decides the collision verdict within a tolerance, `closest` the

@@ -29,6 +29,7 @@
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/distance.h"
 #include "fcl_rs/fcl_float.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/collision_traversal.h"
 #include "fcl_rs/validate.h"
 
@@ -301,6 +302,26 @@ double primitiveRadius(const Primitive& p)
   return 0;
 }
 
+/// Points of the primitive's frame whose convex hull, grown by `radius`, holds the primitive: a box's corners, a
+/// cylinder's box's corners (a superset, so distances to it are lower bounds), a sphere's centre grown by its
+/// radius.
+std::vector<fcl::Vector3d> primitiveHullPoints(const Primitive& p, double& radius)
+{
+  radius = 0;
+  fcl::Vector3d half = fcl::Vector3d::Zero();
+  switch (p.type)
+  {
+    case Primitive::Type::kBox: half = 0.5 * p.size; break;
+    case Primitive::Type::kCylinder: half = fcl::Vector3d(p.size[0], p.size[0], 0.5 * p.size[1]); break;
+    case Primitive::Type::kSphere: radius = p.size[0]; return {fcl::Vector3d::Zero()};
+  }
+  std::vector<fcl::Vector3d> corners;
+  for (int corner = 0; corner < 8; ++corner)
+    corners.emplace_back(corner & 1 ? half[0] : -half[0], corner & 2 ? half[1] : -half[1],
+                         corner & 4 ? half[2] : -half[2]);
+  return corners;
+}
+
 }  // namespace
 
 template <typename S>
@@ -316,6 +337,10 @@ struct SelfCollision<S>::Impl
     fcl::Vector3<S> center = fcl::Vector3<S>::Zero();
     S radius = 0;
     RS<S> bound;
+    /// Points of the link frame (in double) whose convex hull, grown by hull_radius, holds the element: the
+    /// mesh's vertices, or primitiveHullPoints. hull_reach: the largest |point| + hull_radius.
+    std::vector<fcl::Vector3d> hull_points;
+    double hull_radius = 0, hull_reach = 0;
   };
   struct Link
   {
@@ -392,6 +417,25 @@ struct SelfCollision<S>::Impl
     return distance(R, T, a, b) - 8 * std::numeric_limits<S>::epsilon() * worldOffsets(ta, tb);
   }
 
+  /// A lower bound on the distance between elements ea and eb of links posed by ta and tb: the distance of their
+  /// hulls (Element::hull_points) as GJK certifies it, less both hull radii and a margin of 1024 ulps of S on the
+  /// poses' offsets and the elements' reaches, which covers the rounding of the exact distance measured (in S, in
+  /// the links' relative frame) and of the bound. GJK stops once the bound exceeds `enough`, the best distance so
+  /// far (the pair is skipped then, whatever its bound).
+  static S hullDistance(const Tf<S>& ta, const Element& ea, const Tf<S>& tb, const Element& eb, S enough)
+  {
+    const Eigen::Isometry3d pa = ta.template cast<double>(), pb = tb.template cast<double>();
+    const double margin = 1024 * double(std::numeric_limits<S>::epsilon()) *
+                          (pa.translation().lpNorm<1>() + pb.translation().lpNorm<1>() + ea.hull_reach + eb.hull_reach);
+    const double shrink = ea.hull_radius + eb.hull_radius + margin;
+    const fcl::Vector3d start = pa * ea.center.template cast<double>() - pb * eb.center.template cast<double>();
+    const double bound =
+        triangle_shape::hullsLowerBound(ea.hull_points, pa, eb.hull_points, pb, start, double(enough) + shrink) - shrink;
+    // Rounded down to S.
+    const S rounded = S(bound);
+    return double(rounded) > bound ? std::nextafter(rounded, -std::numeric_limits<S>::infinity()) : rounded;
+  }
+
   bool collides(const Placement& placement, int a, int b, QueryStats* stats) const
   {
     if (spheresApart(placement, a, b)) return false;
@@ -448,7 +492,7 @@ struct SelfCollision<S>::Impl
 
   /// A candidate of the minimum-distance search: a link pair, or one element pair of it, with a lower bound on
   /// its distance and the tightest bound computed so far.
-  enum class Stage { kLinkSpheres, kLinkVolumes, kElementSpheres, kElementVolumes };
+  enum class Stage { kLinkSpheres, kLinkVolumes, kElementSpheres, kElementVolumes, kElementHulls };
   struct Candidate
   {
     S bound;
@@ -459,8 +503,9 @@ struct SelfCollision<S>::Impl
 
   /// Minimum distance over the pair list of a collision-free configuration, best first: every link pair waits
   /// with its spheres' gap, a lower bound on its distance. The candidate of smallest bound is tightened one
-  /// stage at a time (with RS the links' volumes, then per element pair the elements' balls and, with RS, their
-  /// volumes) and measured exactly once no bound is left to tighten; each measurement starts at the best distance
+  /// stage at a time (with RS the links' volumes, then per element pair the elements' balls, with RS their
+  /// volumes, and their hulls' distance, which is the elements' own for convex ones) and measured exactly once no
+  /// bound is left to tighten; each measurement starts at the best distance
   /// so far, so its traversal prunes what cannot beat it. Once the smallest bound waiting reaches the best
   /// distance, no candidate can lower it. Only pairs whose bounds stay below the answer are measured, nearest
   /// first, so the nearest pairs set a small minimum early. The order depends on the configuration only, so the
@@ -521,6 +566,11 @@ struct SelfCollision<S>::Impl
           if (bv == BVType::kRS)
             c.bound = std::max(c.bound, boundsDistance(ta, la.elements[c.element_a].bound, tb,
                                                        lb.elements[c.element_b].bound));
+        }
+        else if (c.stage == Stage::kElementVolumes)
+        {
+          c.stage = Stage::kElementHulls;
+          c.bound = std::max(c.bound, hullDistance(ta, la.elements[c.element_a], tb, lb.elements[c.element_b], best));
         }
         else
         {
@@ -599,6 +649,12 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       mesh.center = mesh_centre.cast<S>();
       mesh.radius = S(mesh_radius * (1 + 1e-6));
       mesh.bound = link.bound;
+      // Distinct vertices only (a mesh file may repeat each vertex per triangle): GJK scans them all per step.
+      for (const auto& v : meshes[i].vertices) mesh.hull_points.push_back(v.template cast<double>());
+      std::sort(mesh.hull_points.begin(), mesh.hull_points.end(), [](const fcl::Vector3d& x, const fcl::Vector3d& y) {
+        return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
+      });
+      mesh.hull_points.erase(std::unique(mesh.hull_points.begin(), mesh.hull_points.end()), mesh.hull_points.end());
       link.elements.push_back(mesh);  // its geometry, the tree, is set below
     }
     for (std::size_t k = 0; k < link.shapes.size(); ++k)
@@ -612,9 +668,15 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       shape.center = link.shapes[k].origin.translation();
       shape.radius = S(primitiveRadius(src.primitives[k]) * (1 + 1e-6));
       shape.bound = placed;
+      for (const fcl::Vector3d& corner : primitiveHullPoints(src.primitives[k], shape.hull_radius))
+        shape.hull_points.push_back(src.primitives[k].origin * corner);
       link.elements.push_back(shape);
     }
   }
+  for (typename Impl::Link& link : impl_->links)
+    for (typename Impl::Element& element : link.elements)
+      for (const fcl::Vector3d& point : element.hull_points)
+        element.hull_reach = std::max(element.hull_reach, point.norm() + element.hull_radius);
   impl_->trees = makeTrees<S>(bv, meshes);
   for (int i = 0; i < n; ++i)
     if (impl_->links[i].has_mesh) impl_->links[i].elements.front().geometry = impl_->trees->localModel(i);
