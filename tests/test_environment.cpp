@@ -305,7 +305,10 @@ TYPED_TEST(EnvironmentTest, EveryShapeKindAgreesWithBruteForceAsItMoves)
                                  [](const BodyPair& p) { return !p.other_is_link; }));
     }
   }
-  if (!test::kSanitized) EXPECT_GT(world, 0);
+  if (!test::kSanitized)
+  {
+    EXPECT_GT(world, 0);
+  }
 }
 
 /// A link no joint moves (the Panda's base) meets an obstacle by an answer decided when the obstacle is added or
