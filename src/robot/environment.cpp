@@ -26,6 +26,7 @@
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/collide.h"
 #include "fcl_rs/distance.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/collision_traversal.h"
 #include "fcl_rs/traversal/shape_switch.h"
 #include "fcl_rs/validate.h"
@@ -185,12 +186,8 @@ fcl::Vector3<S> linkShapeSupport(const fcl::CollisionGeometry<S>& geometry, cons
         }
         else if constexpr (std::is_same_v<Shape, fcl::Sphere<S>>)
           return shape.radius * u;
-        else if constexpr (std::is_same_v<Shape, fcl::Cylinder<S>>)
-        {
-          const S radial = std::hypot(u.x(), u.y());
-          const S scale = radial > 0 ? shape.radius / radial : S(0);
-          return fcl::Vector3<S>(scale * u.x(), scale * u.y(), u.z() < 0 ? -shape.lz / 2 : shape.lz / 2);
-        }
+        else if constexpr (std::is_same_v<Shape, fcl::Cylinder<S>>)  // the leaf test's support function
+          return triangle_shape::ShapeGeometry<Shape>(shape).support(u.template cast<double>()).template cast<S>();
         else
           return not_a_link_shape();
       },
