@@ -26,6 +26,7 @@
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/collide.h"
 #include "fcl_rs/distance.h"
+#include "fcl_rs/fcl_float.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/collision_traversal.h"
 #include "fcl_rs/traversal/shape_switch.h"
