@@ -15,6 +15,7 @@
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 
 #include "fcl_rs/collide.h"
+#include "fcl_rs/detail/relative_poses.h"
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/distance_traversal.h"
 #include "fcl_rs/traversal/octree_traversal.h"
@@ -121,17 +122,15 @@ void signedDistanceFromContacts(const fcl::CollisionGeometry<S>* o1, const fcl::
   }
 }
 
-/// fcl::distance with both poses moved by -tf1's translation (as fclCollideRelative in collide.cpp, and for the
-/// same reason); nearest points this query sets are moved back.
+/// fcl::distance with both poses moved by -tf1's translation (fcl_rs/detail/relative_poses.h); nearest points this
+/// query sets are moved back.
 template <typename S>
 S fclDistanceRelative(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
                       const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
                       const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
 {
   const fcl::Vector3<S> shift = tf1.translation();
-  fcl::Transform3<S> near1 = tf1, near2 = tf2;
-  near1.translation().setZero();
-  near2.translation() -= shift;
+  const fcl::Transform3<S> near1 = detail::shifted(tf1, shift), near2 = detail::shifted(tf2, shift);
   const S before = result.min_distance;
   const S res = fcl::distance(o1, near1, o2, near2, request, result);
   // FCL's DistanceResult::update writes the nearest points with a strictly smaller distance only.

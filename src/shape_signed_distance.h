@@ -40,6 +40,7 @@
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/detail/convexity_based_algorithm/gjk_libccd.h>
 
+#include "fcl_rs/detail/relative_poses.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/shape_switch.h"
 
@@ -374,8 +375,8 @@ inline double boundedCcdSignedDistance(const CcdShape& shape1, const CcdShape& s
   return -std::sqrt(nearest->dist);
 }
 
-/// The signed distance of shapes o1 at tf1 and o2 at tf2 (see the top), computed relative to tf1's translation (as
-/// fcl_rs passes every pair to FCL) with p1 and p2 moved back; nullopt for pairs libccd cannot take (TriangleP).
+/// The signed distance of shapes o1 at tf1 and o2 at tf2 (see the top), computed relative to tf1's translation
+/// (fcl_rs/detail/relative_poses.h) with p1 and p2 moved back; nullopt for pairs libccd cannot take (TriangleP).
 /// libccd's GJK takes max_iterations and tolerance (FCL's max_distance_iterations and distance_tolerance).
 template <typename S>
 std::optional<Signed> signedDistance(const fcl::CollisionGeometry<S>& o1, const fcl::Transform3<S>& tf1,
@@ -396,11 +397,10 @@ std::optional<Signed> signedDistance(const fcl::CollisionGeometry<S>& o1, const 
   }
   if (!signed_distance)
   {
-    fcl::Transform3<S> near1 = tf1, near2 = tf2;
-    near1.translation().setZero();
-    near2.translation() -= tf1.translation();
     CcdShape shape1, shape2;
-    if (!asCcdShape(o1, near1, shape1) || !asCcdShape(o2, near2, shape2)) return std::nullopt;
+    if (!asCcdShape(o1, shifted(tf1, tf1.translation()), shape1) ||
+        !asCcdShape(o2, shifted(tf2, tf1.translation()), shape2))
+      return std::nullopt;
     Signed bounded{0, Vec::Zero(), Vec::Zero()};
     const double known_depth =
         inscribedBall(o1) + inscribedBall(o2) - (tf2.translation() - tf1.translation()).template cast<double>().norm();
