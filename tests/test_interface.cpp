@@ -2,7 +2,6 @@
 #include <fstream>
 #include <regex>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 #include <type_traits>
 
@@ -78,15 +77,6 @@ TEST(Interface, NodeTypeIsUnknownToFcl)
   // FCL's closed NODE_TYPE enum has no slot for RS: this is why fcl_rs::collide exists.
   EXPECT_EQ(fcl::BVHModel<fcl_rs::RSd>().getNodeType(), fcl::BV_UNKNOWN);
   EXPECT_EQ(fcl::BVHModel<fcl_rs::RSf>().getNodeType(), fcl::BV_UNKNOWN);
-}
-
-TEST(Interface, ParentRelativeVolumesAreRefused)
-{
-  // FCL's makeParentRelative would move each volume into its parent's frame; RS traversals read them in the mesh's.
-  const auto model = fcl_rs::buildModel<fcl_rs::RSd>(fcl_rs::makeBox<double>(1, 2, 3));
-  const fcl_rs::RSd root = model->getBV(0).bv;
-  EXPECT_THROW(model->makeParentRelative(), std::logic_error);
-  EXPECT_TRUE(model->getBV(0).bv.center().isApprox(root.center()));
 }
 
 TEST(Interface, VersionComesFromPackageXml)

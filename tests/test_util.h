@@ -27,6 +27,7 @@
 #include <gtest/gtest.h>
 
 #include "exact_oracle.h"
+#include "fcl_trees.h"
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/bvh/refit_model.h"
 #include "fcl_rs/mesh/load_mesh.h"

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <limits>
-#include <stdexcept>
 #include <vector>
 
 #include <fcl/geometry/bvh/BVH_model.h>
@@ -22,6 +21,7 @@
 
 #include "fcl_rs/bv/pca.h"
 #include "fcl_rs/bv/rs.h"
+#include "fcl_rs/bvh/model_instances.h"
 
 namespace fcl_rs {
 
@@ -392,58 +392,11 @@ struct ComputeBVImpl<S, fcl_rs::RS<S>, Halfspace<S>>
 };
 
 }  // namespace detail
-
-/// BVHModel::makeParentRelative: RS volumes stay in the mesh's frame, where fcl_rs's traversals read them. FCL's
-/// generic version compiles for no volume without a specialisation, and the library compiles all of BVHModel<RS>.
-template <typename S>
-struct MakeParentRelativeRecurseImpl<S, fcl_rs::RS<S>>
-{
-  [[noreturn]] static void run(BVHModel<fcl_rs::RS<S>>&, int, const Matrix3<S>&, const Vector3<S>&)
-  {
-    throw std::logic_error("BVHModel<fcl_rs::RS>::makeParentRelative: not supported, RS volumes stay in the mesh's "
-                           "frame, where fcl_rs's traversals read them");
-  }
-};
-
-// BVHModel<RS>'s building, refitting and virtual members are compiled once, in the library (src/bvh/rs_model.cpp),
-// not again in every file that builds or queries an RS tree. Its small accessors (getBV, ...) stay inline for the
-// traversals.
-#define FCL_RS_DECLARE_RS_MODEL(S)                                                                      \
-  extern template BVHModel<fcl_rs::RS<S>>::BVHModel();                                                  \
-  extern template BVHModel<fcl_rs::RS<S>>::BVHModel(const BVHModel&);                                   \
-  extern template BVHModel<fcl_rs::RS<S>>::~BVHModel();                                                 \
-  extern template OBJECT_TYPE BVHModel<fcl_rs::RS<S>>::getObjectType() const;                          \
-  extern template NODE_TYPE BVHModel<fcl_rs::RS<S>>::getNodeType() const;                               \
-  extern template void BVHModel<fcl_rs::RS<S>>::computeLocalAABB();                                     \
-  extern template int BVHModel<fcl_rs::RS<S>>::beginModel(int, int);                                    \
-  extern template int BVHModel<fcl_rs::RS<S>>::addVertex(const Vector3<S>&);                            \
-  extern template int BVHModel<fcl_rs::RS<S>>::addTriangle(const Vector3<S>&, const Vector3<S>&,        \
-                                                           const Vector3<S>&);                          \
-  extern template int BVHModel<fcl_rs::RS<S>>::addSubModel(const std::vector<Vector3<S>>&,              \
-                                                           const std::vector<Triangle>&);               \
-  extern template int BVHModel<fcl_rs::RS<S>>::addSubModel(const std::vector<Vector3<S>>&);             \
-  extern template int BVHModel<fcl_rs::RS<S>>::endModel();                                              \
-  extern template int BVHModel<fcl_rs::RS<S>>::beginReplaceModel();                                     \
-  extern template int BVHModel<fcl_rs::RS<S>>::replaceVertex(const Vector3<S>&);                        \
-  extern template int BVHModel<fcl_rs::RS<S>>::replaceTriangle(const Vector3<S>&, const Vector3<S>&,    \
-                                                               const Vector3<S>&);                      \
-  extern template int BVHModel<fcl_rs::RS<S>>::replaceSubModel(const std::vector<Vector3<S>>&);         \
-  extern template int BVHModel<fcl_rs::RS<S>>::endReplaceModel(bool, bool);                             \
-  extern template int BVHModel<fcl_rs::RS<S>>::beginUpdateModel();                                      \
-  extern template int BVHModel<fcl_rs::RS<S>>::updateVertex(const Vector3<S>&);                         \
-  extern template int BVHModel<fcl_rs::RS<S>>::updateTriangle(const Vector3<S>&, const Vector3<S>&,     \
-                                                              const Vector3<S>&);                       \
-  extern template int BVHModel<fcl_rs::RS<S>>::updateSubModel(const std::vector<Vector3<S>>&);          \
-  extern template int BVHModel<fcl_rs::RS<S>>::endUpdateModel(bool, bool);                              \
-  extern template int BVHModel<fcl_rs::RS<S>>::memUsage(int) const;                                     \
-  extern template void BVHModel<fcl_rs::RS<S>>::makeParentRelative();                                   \
-  extern template Vector3<S> BVHModel<fcl_rs::RS<S>>::computeCOM() const;                               \
-  extern template S BVHModel<fcl_rs::RS<S>>::computeVolume() const;                                     \
-  extern template Matrix3<S> BVHModel<fcl_rs::RS<S>>::computeMomentofInertia() const;
-FCL_RS_DECLARE_RS_MODEL(float)
-FCL_RS_DECLARE_RS_MODEL(double)
-#undef FCL_RS_DECLARE_RS_MODEL
-
 }  // namespace fcl
+
+// BVHModel<RS> is compiled once, in the library (src/bvh/rs_model.cpp), not again in every file that builds or
+// queries an RS tree.
+FCL_RS_BVH_MODEL_MEMBERS(extern template, fcl_rs::RSf)
+FCL_RS_BVH_MODEL_MEMBERS(extern template, fcl_rs::RSd)
 
 #endif

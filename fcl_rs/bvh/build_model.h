@@ -10,6 +10,7 @@
 
 #include <fcl/geometry/bvh/BVH_model.h>
 
+#include "fcl_rs/bvh/model_instances.h"
 #include "fcl_rs/bvh/surface_area_splitter.h"
 #include "fcl_rs/mesh/triangle_mesh.h"
 
@@ -60,17 +61,10 @@ std::shared_ptr<fcl::BVHModel<BV>> buildModel(const TriangleMesh<typename BV::S>
   return buildModel<BV>(mesh.vertices, mesh.triangles, std::forward<Rule>(rule)...);
 }
 
-// RS trees are built in the library (src/bvh/rs_model.cpp): the fitter and splitter would otherwise be compiled again
-// in every file that builds one.
-#define FCL_RS_DECLARE_BUILD_MODEL(S)                                                                           \
-  extern template std::shared_ptr<fcl::detail::BVSplitterBase<RS<S>>> defaultSplitter<RS<S>>();                 \
-  extern template std::shared_ptr<fcl::BVHModel<RS<S>>> buildModel<RS<S>>(                                      \
-      const std::vector<fcl::Vector3<S>>&, const std::vector<fcl::Triangle>&,                                    \
-      std::shared_ptr<fcl::detail::BVSplitterBase<RS<S>>>);
-FCL_RS_DECLARE_BUILD_MODEL(float)
-FCL_RS_DECLARE_BUILD_MODEL(double)
-#undef FCL_RS_DECLARE_BUILD_MODEL
-
 }  // namespace fcl_rs
+
+// RS trees are built in the library (src/bvh/rs_model.cpp), not again in every file that builds one.
+FCL_RS_BUILD_MODEL_FUNCTIONS(extern template, fcl_rs::RSf)
+FCL_RS_BUILD_MODEL_FUNCTIONS(extern template, fcl_rs::RSd)
 
 #endif
