@@ -38,6 +38,7 @@
 #include <fcl/narrowphase/collision_result.h>
 
 #include "fcl_rs/bvh/node_links.h"
+#include "fcl_rs/detail/relative_poses.h"
 #include "fcl_rs/narrowphase/triangle_intersection.h"
 
 namespace fcl_rs {
@@ -774,8 +775,9 @@ private:
 
 /// The contact of triangle p (the mesh's frame, the mesh at tf_mesh) and shape (at tf_shape), a pair leaf.meets,
 /// as FCL's solver gives it with the shape first (normal from the shape towards the triangle): position, normal
-/// and depth from FCL's solver where it finds the pair too; where it does not (a pair within the tolerance that
-/// FCL's GJK calls apart), the contact sits midway between the closest points with depth 0.
+/// and depth from FCL's solver where it finds the pair too (both poses moved by -tf_shape's translation,
+/// fcl_rs/detail/relative_poses.h, and the position moved back); where it does not (a pair within the tolerance
+/// that FCL's GJK calls apart), the contact sits midway between the closest points with depth 0.
 template <typename Shape, typename Solver>
 void shapeTriangleContact(const TriangleShapeLeaf<Shape>& leaf, const std::array<fcl::Vector3<typename Shape::S>, 3>& p,
                           const Shape& shape, const fcl::Transform3<typename Shape::S>& tf_shape,
@@ -784,7 +786,13 @@ void shapeTriangleContact(const TriangleShapeLeaf<Shape>& leaf, const std::array
                           typename Shape::S& depth)
 {
   using S = typename Shape::S;
-  if (nsolver->shapeTriangleIntersect(shape, tf_shape, p[0], p[1], p[2], tf_mesh, &position, &depth, &normal)) return;
+  const fcl::Vector3<S> shift = tf_shape.translation();
+  if (nsolver->shapeTriangleIntersect(shape, detail::shifted(tf_shape, shift), p[0], p[1], p[2],
+                                      detail::shifted(tf_mesh, shift), &position, &depth, &normal))
+  {
+    position += shift;
+    return;
+  }
   triangle_shape::Vec t[3];
   const triangle_shape::Closest c = leaf.geometry().closest(leaf.moved(p.data(), t));
   const Eigen::Isometry3d to_world = tf_shape.template cast<double>();
