@@ -13,15 +13,17 @@
 
 #include "fcl_rs/collide.h"
 #include "fcl_rs/bv/rs.h"
+#include "fcl_rs/detail/relative_poses.h"
 #include "fcl_rs/validate.h"
 
 namespace fcl_rs {
 
 /// Same overloads and meaning as fcl::continuousCollide. Pairs without an RS mesh are passed to
-/// fcl::continuousCollide unchanged, except in naive mode and for conservative advancement against a Plane or
-/// Halfspace, which FCL crashes on (std::invalid_argument). The transform and object overloads shift every
-/// transform by -tf1_beg's translation first (FCL's libccd GJK asserts on shapes far from the origin); the
-/// motion overload passes the motions as they are. Pairs with an RS mesh (against an RS mesh or a
+/// fcl::continuousCollide, except in naive mode and for conservative advancement against a Plane or Halfspace,
+/// which FCL crashes on (std::invalid_argument). Every pose FCL sees is shifted by the first object's start
+/// translation (fcl_rs/detail/relative_poses.h: FCL's libccd GJK asserts on shapes far from the origin): the
+/// transform and object overloads shift the four transforms before making the motions, the motion overload hands
+/// FCL's advancement the caller's motions seen shifted. Pairs with an RS mesh (against an RS mesh or a
 /// primitive shape, either order) support two modes:
 ///  * CCDC_NAIVE (the default, run here for every pair): the motions are sampled at n = min(num_max_iterations, ceil(1 / toc_err))
 ///    evenly spaced times (at least the two ends; FCL divides by zero for n = 1) and the first sample where
@@ -100,18 +102,14 @@ S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S
     throw std::invalid_argument(
         "fcl_rs::continuousCollide: FCL 0.7 cannot make a spline motion from two transforms (SplineMotion(tf1, "
         "tf2) leaves its control points uninitialized); pass fcl::SplineMotion objects built from control points");
-  // The motions move with every transform shifted by -tf1_beg's translation, so that FCL's solvers see the pair's
-  // relative placement (as fcl_rs::collide passes pairs to FCL: far from the origin libccd's GJK asserts); the
-  // contact transforms are shifted back. Translation, linear and screw motions commute with the shift.
+  // The motions are made between transforms shifted by -tf1_beg's translation (fcl_rs/detail/relative_poses.h), so
+  // that they interpolate the relative placement too (far away a motion's absolute positions round); the contact
+  // transforms are shifted back. Translation, linear and screw motions commute with the shift.
   const fcl::Vector3<S> shift = tf1_beg.translation();
-  const auto shifted = [&shift](fcl::Transform3<S> tf) {
-    tf.translation() -= shift;
-    return tf;
-  };
-  const fcl::MotionBasePtr<S> motion1 =
-      detail::motionBetween(shifted(tf1_beg), shifted(tf1_end), request.ccd_motion_type);
-  const fcl::MotionBasePtr<S> motion2 =
-      detail::motionBetween(shifted(tf2_beg), shifted(tf2_end), request.ccd_motion_type);
+  const fcl::MotionBasePtr<S> motion1 = detail::motionBetween(detail::shifted(tf1_beg, shift),
+                                                              detail::shifted(tf1_end, shift), request.ccd_motion_type);
+  const fcl::MotionBasePtr<S> motion2 = detail::motionBetween(detail::shifted(tf2_beg, shift),
+                                                              detail::shifted(tf2_end, shift), request.ccd_motion_type);
   const S time_of_contact = fcl_rs::continuousCollide(o1, motion1.get(), o2, motion2.get(), request, result);
   if (result.is_collide)
   {
@@ -148,7 +146,7 @@ S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::MotionBase<S
   requireValidShape(o2, api, "o2");
   requireValidRequest(request, api);
   // A motion between two rigid transforms stays rigid in between (FCL interpolates rotations as quaternions).
-  fcl::Transform3<S> tf1, tf2;
+  fcl::Transform3<S> tf1, tf2, start1;
   for (const S t : {S(0), S(1)})
   {
     motion1->integrate(t);
@@ -157,22 +155,36 @@ S continuousCollide(const fcl::CollisionGeometry<S>* o1, const fcl::MotionBase<S
     motion2->getCurrentTransform(tf2);
     requireRigidTransform(tf1, api, t == 0 ? "motion1's start" : "motion1's end");
     requireRigidTransform(tf2, api, t == 0 ? "motion2's start" : "motion2's end");
+    if (t == 0) start1 = tf1;
   }
   const bool has_rs = dynamic_cast<const fcl::BVHModel<RS<S>>*>(o1) || dynamic_cast<const fcl::BVHModel<RS<S>>*>(o2);
   // Naive mode runs here for every pair: FCL's own loop divides 0 by 0 for num_max_iterations 1 (and samples a NaN
   // pose) and converts 1 / toc_err to std::size_t unchecked.
-  if (!has_rs && request.ccd_solver_type != fcl::CCDC_NAIVE)
+  if (!has_rs && request.ccd_solver_type == fcl::CCDC_CONSERVATIVE_ADVANCEMENT)
   {
     // FCL's advancement measures distances, and its GJK has no support function for planes and halfspaces: it
     // crashed on every shape-plane pair tried (as fcl_rs::distance refuses those pairs).
     for (const fcl::CollisionGeometry<S>* o : {o1, o2})
-      if (request.ccd_solver_type == fcl::CCDC_CONSERVATIVE_ADVANCEMENT &&
-          (o->getNodeType() == fcl::GEOM_PLANE || o->getNodeType() == fcl::GEOM_HALFSPACE))
+      if (o->getNodeType() == fcl::GEOM_PLANE || o->getNodeType() == fcl::GEOM_HALFSPACE)
         throw std::invalid_argument(
             "fcl_rs::continuousCollide: FCL's conservative advancement crashes on a plane or halfspace (its GJK has no "
             "support function for them); use CCDC_NAIVE, or an RS mesh");
-    return fcl::continuousCollide(o1, motion1, o2, motion2, request, result);
+    // FCL sees both motions shifted by -motion1's start (fcl_rs/detail/relative_poses.h); the contact transforms
+    // are shifted back. (fcl_rs's own paths, naive sampling and RS advancement, shift in collide and distance.)
+    const fcl::Vector3<S> shift = start1.translation();
+    const detail::ShiftedMotion<S> near1(*motion1, shift), near2(*motion2, shift);
+    const S time_of_contact = fcl::continuousCollide(o1, &near1, o2, &near2, request, result);
+    if (result.is_collide)
+    {
+      result.contact_tf1.translation() += shift;
+      result.contact_tf2.translation() += shift;
+    }
+    return time_of_contact;
   }
+  // FCL's polynomial solver casts the motions to TranslationMotion (they are passed as they are) and its ray
+  // shooting is empty.
+  if (!has_rs && request.ccd_solver_type != fcl::CCDC_NAIVE)
+    return fcl::continuousCollide(o1, motion1, o2, motion2, request, result);
   switch (request.ccd_solver_type)
   {
     case fcl::CCDC_NAIVE: break;

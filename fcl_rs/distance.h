@@ -16,7 +16,12 @@ namespace fcl_rs {
 /// in either order) are handled here (Plane, Halfspace and TriangleP beyond FCL, whose mesh-plane and
 /// mesh-halfspace distance crashes and which has no mesh-TriangleP entry);
 /// every other pair is passed to fcl::distance unchanged, except that a pair of shapes with a Plane or a Halfspace
-/// throws std::invalid_argument: FCL's own distance for them calls a null support function (a crash).
+/// throws std::invalid_argument: FCL's own distance for them calls a null support function (a crash), and the signed
+/// distance of two shapes is computed here for either gjk_solver_type (FCL's libccd EPA ran for minutes on concentric
+/// and coaxial pairs, GJKSolver_indep's depths of curved shapes are far off): in closed form for a sphere or capsule
+/// against a sphere or capsule and for a sphere against a box, cylinder or cone, else by libccd's GJK and EPA with
+/// EPA bounded to 1000 expansions (milliseconds); a depth then within distance_tolerance, or 1e-3 relative where EPA
+/// converges slowly, else std::runtime_error naming both bounds (src/shape_signed_distance.h).
 ///
 /// As in FCL: a shape given first is swapped behind the mesh, so result.o1, b1 and nearest_points[0]
 /// then refer to the mesh; nearest points are in the world frame; a colliding pair reports what FCL's

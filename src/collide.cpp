@@ -14,6 +14,7 @@
 #include <fcl/narrowphase/detail/gjk_solver_indep.h>
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 
+#include "fcl_rs/detail/relative_poses.h"
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/collision_traversal.h"
 #include "fcl_rs/traversal/octree_traversal.h"
@@ -152,10 +153,9 @@ std::size_t meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::
       });
 }
 
-/// fcl::collide with both poses moved by -tf1's translation, so that FCL (libccd's GJK above all) sees the pair's
-/// relative placement: far from the origin absolute coordinates round the shapes' sizes away (libccd's GJK
-/// asserted from about 1e16 in double and looped for minutes at 1e7 in float), relative ones do not. Contacts and
-/// cost sources are moved back; the caller's result is filled as fcl::collide fills it.
+/// fcl::collide with both poses moved by -tf1's translation (fcl_rs/detail/relative_poses.h: FCL then sees the
+/// pair's relative placement). Contacts and cost sources are moved back; the caller's result is filled as
+/// fcl::collide fills it.
 template <typename S>
 std::size_t fclCollideRelative(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
                                const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
@@ -163,9 +163,7 @@ std::size_t fclCollideRelative(const fcl::CollisionGeometry<S>* o1, const fcl::T
 {
   if (request.isSatisfied(result)) return result.numContacts();
   const fcl::Vector3<S> shift = tf1.translation();
-  fcl::Transform3<S> near1 = tf1, near2 = tf2;
-  near1.translation().setZero();
-  near2.translation() -= shift;
+  const fcl::Transform3<S> near1 = detail::shifted(tf1, shift), near2 = detail::shifted(tf2, shift);
   const std::size_t before = result.numContacts();
   if (!request.enable_cost)
   {

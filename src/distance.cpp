@@ -1,5 +1,6 @@
 // fcl_rs::distance: dispatch of RS mesh pairs to the local-frame RS traversal, everything else to FCL.
 #include "rs_pairs.h"
+#include "shape_signed_distance.h"
 #include "validated_entries.h"
 #include "fcl_rs/distance.h"
 
@@ -15,6 +16,7 @@
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 
 #include "fcl_rs/collide.h"
+#include "fcl_rs/detail/relative_poses.h"
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/traversal/distance_traversal.h"
 #include "fcl_rs/traversal/octree_traversal.h"
@@ -121,17 +123,15 @@ void signedDistanceFromContacts(const fcl::CollisionGeometry<S>* o1, const fcl::
   }
 }
 
-/// fcl::distance with both poses moved by -tf1's translation (as fclCollideRelative in collide.cpp, and for the
-/// same reason); nearest points this query sets are moved back.
+/// fcl::distance with both poses moved by -tf1's translation (fcl_rs/detail/relative_poses.h); nearest points this
+/// query sets are moved back.
 template <typename S>
 S fclDistanceRelative(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
                       const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
                       const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
 {
   const fcl::Vector3<S> shift = tf1.translation();
-  fcl::Transform3<S> near1 = tf1, near2 = tf2;
-  near1.translation().setZero();
-  near2.translation() -= shift;
+  const fcl::Transform3<S> near1 = detail::shifted(tf1, shift), near2 = detail::shifted(tf2, shift);
   const S before = result.min_distance;
   const S res = fcl::distance(o1, near1, o2, near2, request, result);
   // FCL's DistanceResult::update writes the nearest points with a strictly smaller distance only.
@@ -208,12 +208,26 @@ S distanceValidated(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S
       if (type == fcl::GEOM_PLANE || type == fcl::GEOM_HALFSPACE)
         detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
                                 "FCL has no distance to a plane or halfspace (its GJK calls a null support function)");
-    // FCL signs the distance itself only for two shapes under libccd; its fallback for every other pair asserts
-    // (or reads before its contact list) when no contact has a positive depth, as GJKSolver_indep's are (found by
-    // fuzz_api): fcl_rs's fallback, as for RS meshes, runs instead.
-    const bool fcl_signs = request.gjk_solver_type == fcl::GST_LIBCCD && o1->getObjectType() == fcl::OT_GEOM &&
-                           o2->getObjectType() == fcl::OT_GEOM;
-    if (!request.enable_signed_distance || fcl_signs) return fclDistanceRelative(o1, tf1, o2, tf2, request, result);
+    if (!request.enable_signed_distance) return fclDistanceRelative(o1, tf1, o2, tf2, request, result);
+    // Two shapes: closed forms, else libccd's GJK and a bounded EPA, whichever the solver (shape_signed_distance.h:
+    // FCL's libccd EPA can run for minutes, GJKSolver_indep's depths of curved shapes are far off).
+    if (o1->getObjectType() == fcl::OT_GEOM && o2->getObjectType() == fcl::OT_GEOM)
+    {
+      if (request.isSatisfied(result)) return result.min_distance;
+      const auto signed_distance = detail::shape_signed_distance::signedDistance(
+          *o1, tf1, *o2, tf2, fcl::detail::GJKSolver_libccd<S>().max_distance_iterations,
+          double(request.distance_tolerance), kApi);
+      if (signed_distance)
+      {
+        // As FCL's shape-shape node: both nearest points are written, whatever enable_nearest_points says.
+        result.update(S(signed_distance->distance), o1, o2, fcl::DistanceResult<S>::NONE,
+                      fcl::DistanceResult<S>::NONE, signed_distance->p1.template cast<S>(),
+                      signed_distance->p2.template cast<S>());
+        return result.min_distance;
+      }
+    }
+    // FCL's fallback for every other pair asserts (or reads before its contact list) when no contact has a positive
+    // depth, as GJKSolver_indep's are (found by fuzz_api): fcl_rs's fallback, as for RS meshes, runs instead.
     fcl::DistanceRequest<S> unsigned_request(request);
     unsigned_request.enable_signed_distance = false;
     const S start_distance = result.min_distance;

@@ -499,8 +499,6 @@ TYPED_TEST(Validate, FarFromTheOriginAnswersAsNearIt)
       fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(0)), tf2 = fcl_rs::test::randomPose<S>(rng, S(0));
       tf1.translation().setZero();
       tf2.translation() = fcl::Vector3<S>(S(step(rng)), S(step(rng)), S(step(rng)));
-      // Never concentric: FCL's libccd signed distance of two concentric spheres loops at any offset.
-      if (tf2.translation().isZero()) tf2.translation().x() = 1;
       SCOPED_TRACE(::testing::Message() << "pair " << k << ", trial " << trial << ", offset " << tf2.translation().transpose());
       for (const fcl::GJKSolverType solver : {fcl::GST_LIBCCD, fcl::GST_INDEP})
       {
@@ -592,6 +590,76 @@ TEST(ValidateContinuous, ConservativeAdvancementRefusesPlanesAndHalfspacesBetwee
     expectMessage([&] { fcl_rs::continuousCollide<double>(flat, end, end, &box, start, end, request, result); },
                   {"plane or halfspace"});
   }
+}
+
+/// Far from the origin, FCL sees every pose relative to the first object's (fcl_rs/detail/relative_poses.h): at
+/// 1e12 and at 1e124 (where libccd asserted) collide, distance (plain and signed) and the three continuousCollide
+/// overloads (naive and conservative advancement) answer as for the same relative placement near the origin: the
+/// transform overloads exactly (FCL sees the same numbers), the motion overload as far as the caller's motion
+/// rounds its far positions.
+TEST(ValidateContinuous, FarPosesAnswerAsNearTheOriginThroughEveryOverload)
+{
+  using S = double;
+  using G = std::shared_ptr<fcl::CollisionGeometry<S>>;
+  const G box = std::make_shared<fcl::Box<S>>(3, 2, 2), capsule = std::make_shared<fcl::Capsule<S>>(1, 3);
+  const G cone = std::make_shared<fcl::Cone<S>>(1.5, 3), sphere = std::make_shared<fcl::Sphere<S>>(2);
+  const std::vector<std::pair<G, G>> pairs = {{box, capsule}, {capsule, cone}, {sphere, sphere}, {cone, box}};
+  std::mt19937_64 rng = fcl_rs::test::seededRng("FarPosesAnswerAsNearTheOriginThroughEveryOverload");
+  for (const S scale : {S(1e12), S(1e124)})
+    for (std::size_t k = 0; k < pairs.size(); ++k)
+    {
+      const auto& [a, b] = pairs[k];
+      SCOPED_TRACE(::testing::Message() << "pair " << k << " at " << scale);
+      fcl::Transform3<S> far1 = fcl_rs::test::randomPose<S>(rng, S(0)), far2 = fcl_rs::test::randomPose<S>(rng, S(0));
+      far1.translation() = scale * fcl::Vector3<S>(1, -1, 0.5);
+      far2.translation() = far1.translation() + fcl::Vector3<S>(1.5, -0.5, 0.25);  // at 1e124: concentric
+      fcl::Transform3<S> far_end2 = far2;
+      far_end2.translation().x() += 4;
+      // The same relative placement near the origin (differences of nearby doubles are exact).
+      const auto near = [&far1](fcl::Transform3<S> tf) {
+        tf.translation() -= far1.translation();
+        return tf;
+      };
+      const fcl::Vector3<S> shift = far1.translation();
+      fcl::CollisionRequest<S> collision(4, true);
+      fcl::CollisionResult<S> near_hits, far_hits;
+      fcl_rs::collide(a.get(), near(far1), b.get(), near(far2), collision, near_hits);
+      fcl_rs::collide(a.get(), far1, b.get(), far2, collision, far_hits);
+      ASSERT_EQ(far_hits.numContacts(), near_hits.numContacts());
+      for (std::size_t i = 0; i < near_hits.numContacts(); ++i)
+        EXPECT_EQ(far_hits.getContact(i).pos, near_hits.getContact(i).pos + shift);
+      for (const bool signed_distance : {false, true})
+      {
+        fcl::DistanceRequest<S> request(true);
+        request.enable_signed_distance = signed_distance;
+        fcl::DistanceResult<S> near_result, far_result;
+        fcl_rs::distance(a.get(), near(far1), b.get(), near(far2), request, near_result);
+        fcl_rs::distance(a.get(), far1, b.get(), far2, request, far_result);
+        EXPECT_EQ(far_result.min_distance, near_result.min_distance) << "signed " << signed_distance;
+        EXPECT_EQ(far_result.nearest_points[0], near_result.nearest_points[0] + shift);
+      }
+      for (const fcl::CCDSolverType mode : {fcl::CCDC_NAIVE, fcl::CCDC_CONSERVATIVE_ADVANCEMENT})
+      {
+        SCOPED_TRACE(::testing::Message() << "mode " << mode);
+        const fcl::ContinuousCollisionRequest<S> request(20, 0.05, fcl::CCDM_TRANS, fcl::GST_LIBCCD, mode);
+        fcl::ContinuousCollisionResult<S> near_result, by_transform, by_object, by_motion;
+        const S near_time = fcl_rs::continuousCollide(a.get(), near(far1), near(far1), b.get(), near(far2),
+                                                      near(far_end2), request, near_result);
+        EXPECT_EQ(fcl_rs::continuousCollide(a.get(), far1, far1, b.get(), far2, far_end2, request, by_transform),
+                  near_time);
+        EXPECT_EQ(by_transform.is_collide, near_result.is_collide);
+        if (near_result.is_collide)
+        {
+          EXPECT_EQ(by_transform.contact_tf2.translation(), near_result.contact_tf2.translation() + shift);
+        }
+        const fcl::CollisionObject<S> o1(a, far1), o2(b, far2);
+        EXPECT_EQ(fcl_rs::continuousCollide(&o1, far1, &o2, far_end2, request, by_object), near_time);
+        const fcl::TranslationMotion<S> motion1(far1, far1), motion2(far2, far_end2);
+        const S motion_time = fcl_rs::continuousCollide(a.get(), &motion1, b.get(), &motion2, request, by_motion);
+        EXPECT_EQ(by_motion.is_collide, near_result.is_collide);
+        EXPECT_NEAR(motion_time, near_time, 1e-3);
+      }
+    }
 }
 
 /// FCL's distance to a plane or a halfspace calls a null support function (fuzz_api found it for a sphere and a
