@@ -323,6 +323,30 @@ std::vector<fcl::Vector3d> primitiveHullPoints(const Primitive& p, double& radiu
   return corners;
 }
 
+/// Whether the plane of every triangle of mesh with area has all `points` on one side, to 1e-2 of their reach.
+bool convexPosition(const TriangleMesh<double>& mesh, const std::vector<fcl::Vector3d>& points)
+{
+  double reach = 0;
+  for (const fcl::Vector3d& p : points) reach = std::max(reach, p.norm());
+  const double tolerance = 1e-2 * reach;
+  for (const auto& t : mesh.triangles)
+  {
+    const fcl::Vector3d& v0 = mesh.vertices[t[0]];
+    const fcl::Vector3d normal = (mesh.vertices[t[1]] - v0).cross(mesh.vertices[t[2]] - v0);
+    if (!(normal.norm() > 0)) continue;
+    const fcl::Vector3d unit = normal.normalized();
+    double below = 0, above = 0;
+    for (const fcl::Vector3d& p : points)
+    {
+      const double h = unit.dot(p - v0);
+      below = std::min(below, h);
+      above = std::max(above, h);
+      if (below < -tolerance && above > tolerance) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 template <typename S>
@@ -341,6 +365,10 @@ struct SelfCollision<S>::Impl
     /// mesh's vertices, or primitiveHullPoints. hull_reach: the largest |point| + hull_radius.
     std::vector<fcl::Vector3d> hull_points;
     double hull_radius = 0, hull_reach = 0;
+    /// Whether every triangle's plane has all the mesh's vertices on one side (to 1e-2 of its reach); shapes are.
+    /// Only convex elements are measured along their hulls' gap direction: elsewhere the direction leaves too
+    /// many triangles, and finding that out would cost more than it saves.
+    bool convex = true;
   };
   struct Link
   {
@@ -580,7 +608,7 @@ struct SelfCollision<S>::Impl
           const Tf<S> pose_a = ta * ea.origin, pose_b = tb * eb.origin;
           fcl::DistanceResult<S> result;
           result.min_distance = best;
-          if (bv != BVType::kRS ||
+          if (bv != BVType::kRS || !ea.convex || !eb.convex ||
               !detail::distanceAlong(ea.geometry, pose_a, eb.geometry, pose_b, c.direction, request, result))
             fcl_rs::distance(ea.geometry, pose_a, eb.geometry, pose_b, request, result);
           best = std::min(best, result.min_distance);
@@ -658,6 +686,7 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
         return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
       });
       mesh.hull_points.erase(std::unique(mesh.hull_points.begin(), mesh.hull_points.end()), mesh.hull_points.end());
+      mesh.convex = convexPosition(src.mesh, mesh.hull_points);
       link.elements.push_back(mesh);  // its geometry, the tree, is set below
     }
     for (std::size_t k = 0; k < link.shapes.size(); ++k)
