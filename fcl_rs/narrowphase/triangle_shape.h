@@ -316,9 +316,10 @@ Closest gjk(const SupportOf& supportOf, const Vec& start, double touch, double a
 /// A lower bound on the distance between the convex hulls of points a (posed by pa) and points b (posed by pb),
 /// each at least one point: gjk's certified bound, from `start` (roughly from b towards a), stopped once it
 /// exceeds `enough` (a caller that only asks whether the hulls are that far apart needs no more). Exact but for
-/// rounding, a few ulps of the points' and poses' scale.
+/// rounding, a few ulps of the points' and poses' scale. direction: from the closest point reached on a's hull to
+/// b's (zero when the hulls meet), the hulls' gap direction once GJK has converged.
 inline double hullsLowerBound(const std::vector<Vec>& a, const Eigen::Isometry3d& pa, const std::vector<Vec>& b,
-                              const Eigen::Isometry3d& pb, const Vec& start, double enough)
+                              const Eigen::Isometry3d& pb, const Vec& start, double enough, Vec* direction = nullptr)
 {
   const Eigen::Matrix3d ra = pa.linear().transpose(), rb = pb.linear().transpose();
   const auto lowest = [](const std::vector<Vec>& points, const Vec& d) -> const Vec& {
@@ -338,7 +339,8 @@ inline double hullsLowerBound(const std::vector<Vec>& a, const Eigen::Isometry3d
     return DifferencePoint{pa_point, pb_point, pa_point - pb_point};
   };
   double lower = 0;
-  gjk(supportOf, start, 0, enough, lower);
+  const Closest reached = gjk(supportOf, start, 0, enough, lower);
+  if (direction) *direction = reached.on_shape - reached.on_triangle;
   return lower;
 }
 
@@ -748,10 +750,11 @@ public:
     return t1_.template lpNorm<1>() + t2_.template lpNorm<1>() + T_.template lpNorm<1>() +
            6 * (mesh_reach + S(geometry_.reach()));
   }
-  S tolerance(const fcl::Vector3<S> p[3]) const
-  {
-    return leafTolerance<S>(std::max(largestCoordinate(p), S(geometry_.reach())), t1_, t2_, T_);
-  }
+  S tolerance(const fcl::Vector3<S> p[3]) const { return tolerance(largestCoordinate(p)); }
+  /// The tolerance of a triangle whose largest coordinate is `size`; it grows with size.
+  S tolerance(S size) const { return leafTolerance<S>(std::max(size, S(geometry_.reach())), t1_, t2_, T_); }
+  /// The map of the mesh's frame to the shape's, in which the leaf measures.
+  const Eigen::Isometry3d& meshToShape() const { return mesh_to_shape_; }
 
 private:
   /// The iterative shapes decide the verdict and the distance in one run.
