@@ -28,7 +28,6 @@
 #include <fcl/narrowphase/detail/primitive_shape_algorithm/triangle_distance.h>
 #include <gtest/gtest.h>
 
-#include "fcl_rs/detail/relative_poses.h"
 #include "fcl_rs/fcl_rs.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/traversal/shape_switch.h"
@@ -705,11 +704,8 @@ TYPED_TEST(DistanceMeshShape, SignedDistanceIsTheDeepestContact)
       fcl::DistanceResult<S> rs_box, rss_box;
       fcl_rs::distance<S>(&box, tf2, torus.rs.get(), tf1, request, rs_box);
       fcl::distance(torus.rss.get(), tf1, &box, tf2, rss_request, rss_box);
-      // FCL's contacts with both poses moved by -tf2's translation, as fcl_rs's leaf contact calls FCL's solver
-      // (fcl_rs/detail/relative_poses.h): GJKSolver_indep's depths change with the frame (by tens of percent).
       fcl::CollisionResult<S> contacts;
-      fcl::collide(torus.rss.get(), fcl_rs::detail::shifted(tf1, tf2.translation()), &box,
-                   fcl_rs::detail::shifted(tf2, tf2.translation()), all_contacts, contacts);
+      fcl::collide(torus.rss.get(), tf1, &box, tf2, all_contacts, contacts);
       if (contacts.isCollision())
       {
         ++negative_box;

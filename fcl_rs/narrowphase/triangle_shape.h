@@ -778,9 +778,9 @@ private:
 
 /// The contact of triangle p (the mesh's frame, the mesh at tf_mesh) and shape (at tf_shape), a pair leaf.meets,
 /// as FCL's solver gives it with the shape first (normal from the shape towards the triangle): position, normal
-/// and depth from FCL's solver where it finds the pair too (both poses moved by -tf_shape's translation,
-/// fcl_rs/detail/relative_poses.h, and the position moved back); where it does not (a pair within the tolerance
-/// that FCL's GJK calls apart), the contact sits midway between the closest points with depth 0.
+/// and depth from FCL's solver where it finds the pair too (far from the origin with both poses moved by
+/// -tf_shape's translation, fcl_rs/detail/relative_poses.h, and the position moved back); where it does not (a pair
+/// within the tolerance that FCL's GJK calls apart), the contact sits midway between the closest points with depth 0.
 template <typename Shape, typename Solver>
 void shapeTriangleContact(const TriangleShapeLeaf<Shape>& leaf, const std::array<fcl::Vector3<typename Shape::S>, 3>& p,
                           const Shape& shape, const fcl::Transform3<typename Shape::S>& tf_shape,
@@ -789,7 +789,12 @@ void shapeTriangleContact(const TriangleShapeLeaf<Shape>& leaf, const std::array
                           typename Shape::S& depth)
 {
   using S = typename Shape::S;
-  const fcl::Vector3<S> shift = tf_shape.translation();
+  // Far from the origin (beyond 2^20) both poses move by -tf_shape's translation, else libccd asserts (fuzz_api:
+  // 1.5e124); near it FCL's own call is kept, its contacts to the bit as FCL's traversals give them (its MPR depths
+  // move with the frame by a few percent).
+  const fcl::Vector3<S> shift =
+      tf_shape.translation().cwiseAbs().maxCoeff() > S(0x1p20) ? fcl::Vector3<S>(tf_shape.translation())
+                                                               : fcl::Vector3<S>::Zero();
   if (nsolver->shapeTriangleIntersect(shape, detail::shifted(tf_shape, shift), p[0], p[1], p[2],
                                       detail::shifted(tf_mesh, shift), &position, &depth, &normal))
   {
