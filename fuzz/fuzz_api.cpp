@@ -1,7 +1,8 @@
 // libFuzzer target: bytes -> two poses (rigid; rigid with one entry replaced by NaN, an infinity, a huge or a
 // raw value; scaled near the tolerance; reflected; or sixteen raw values) and a request (fields valid or not) ->
 // fcl_rs::collide, distance and continuousCollide on small RS meshes and FCL shapes, float and double, through
-// the geometry and the object overloads. Aborts when a call crashes (sanitizers, libccd's assertions), answers
+// the geometry and the object overloads (and continuousCollide's motion overload), near the origin and far from it
+// (translations up to about 1e124 in double). Aborts when a call crashes (sanitizers, libccd's assertions), answers
 // input that this file's own check (long double, fcl_rs/validate.h's rules) calls invalid, refuses input it
 // calls valid, or returns a NaN distance for valid input.
 #include <cmath>
@@ -13,6 +14,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <fcl/geometry/shape/box.h>
@@ -57,19 +59,6 @@ Verdict poseVerdict(const fcl::Transform3<S>& tf)
   return R.determinant() > 0 ? Verdict::kValid : Verdict::kInvalid;
 }
 
-/// Translations beyond 2^20 (about 1e6, the offsets test_hard_cases covers) are not queried: there libccd's GJK
-/// asserts on valid poses (a mesh and an ellipsoid 1.5e124 from the origin: "A is not in region 1"), an FCL
-/// limit fcl_rs does not guard yet (docs/robustness.md).
-constexpr double kFar = 0x1p20;
-
-template <typename S>
-bool farTranslation(const fcl::Transform3<S>& tf)
-{
-  for (int k = 0; k < 3; ++k)
-    if (std::isfinite(tf.translation()[k]) && std::abs(tf.translation()[k]) > S(kFar)) return true;
-  return false;
-}
-
 /// A value 2^e * m with e in [lo, hi] and m in [-1, 1].
 double scaled(FuzzedDataProvider& in, int lo, int hi)
 {
@@ -100,9 +89,11 @@ fcl::Transform3<S> rigidPose(FuzzedDataProvider& in)
   if (q.norm() == 0) q = Eigen::Quaterniond::Identity();
   fcl::Transform3<S> tf = fcl::Transform3<S>::Identity();
   tf.linear() = q.normalized().toRotationMatrix().cast<S>();
-  // Mostly near the shapes; sometimes far, up to kFar.
+  // Mostly near the shapes; sometimes far, up to 2^412 (about 1e124) in double and 2^100 in float: FCL sees poses
+  // relative to the first object's (fcl_rs/detail/relative_poses.h).
   const bool distant = in.ConsumeProbability<float>() < 0.1f;
-  for (int k = 0; k < 3; ++k) tf.translation()[k] = S(distant ? scaled(in, 0, 20) : scaled(in, -8, 2));
+  const int far = std::is_same<S, double>::value ? 412 : 100;
+  for (int k = 0; k < 3; ++k) tf.translation()[k] = S(distant ? scaled(in, 0, far) : scaled(in, -8, 2));
   return tf;
 }
 
@@ -236,7 +227,6 @@ void run(FuzzedDataProvider& in)
   const std::size_t a = in.ConsumeIntegralInRange<std::size_t>(0, in.ConsumeBool() ? 1 : g.size() - 1);
   const std::size_t b = in.ConsumeIntegralInRange<std::size_t>(0, g.size() - 1);
   const fcl::Transform3<S> tf1 = anyPose<S>(in), tf2 = anyPose<S>(in);
-  if (farTranslation(tf1) || farTranslation(tf2)) return;
   const Verdict poses = worst(poseVerdict(tf1), poseVerdict(tf2));
   const bool objects = in.ConsumeBool();
   const fcl::CollisionObject<S> o1(g[a], tf1), o2(g[b], tf2);
@@ -273,11 +263,30 @@ void run(FuzzedDataProvider& in)
       if constexpr (std::is_same<S, double>::value)
       {
         const fcl::Transform3<S> end1 = anyPose<S>(in), end2 = anyPose<S>(in);
-        if (farTranslation(end1) || farTranslation(end2)) return;
         fcl::ContinuousCollisionRequest<S> request;
-        const Verdict verdict = worst(worst(poses, worst(poseVerdict(end1), poseVerdict(end2))),
-                                      continuousRequest(in, request));
+        const Verdict request_verdict = continuousRequest(in, request);
         fcl::ContinuousCollisionResult<S> result;
+        if (in.ConsumeProbability<float>() < 0.25f)
+        {
+          // The motion overload, with the caller's motions: validation sees their ends, which a translation motion
+          // makes from its start's rotation (as a quaternion) and a translation range.
+          const fcl::TranslationMotion<S> motion1(tf1, end1), motion2(tf2, end2);
+          Verdict verdict = request_verdict;
+          for (const fcl::TranslationMotion<S>* motion : {&motion1, &motion2})
+            for (const S t : {S(0), S(1)})
+            {
+              fcl::Transform3<S> tf;
+              motion->integrate(t);
+              motion->getCurrentTransform(tf);
+              verdict = worst(verdict, poseVerdict(tf));
+            }
+          expectOutcome(verdict, [&] {
+            fcl_rs::continuousCollide(g[a].get(), &motion1, g[b].get(), &motion2, request, result);
+          });
+          break;
+        }
+        const Verdict verdict =
+            worst(worst(poses, worst(poseVerdict(end1), poseVerdict(end2))), request_verdict);
         expectOutcome(verdict, [&] {
           if (objects)
             fcl_rs::continuousCollide(&o1, end1, &o2, end2, request, result);

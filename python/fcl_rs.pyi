@@ -57,6 +57,22 @@ class Cylinder(Geometry):
 class Cone(Geometry):
     def __init__(self, radius: float, length: float) -> None: ...
 
+class Plane(Geometry):
+    """FCL plane {x : normal . x = offset}, normal and offset divided by the normal's length."""
+    def __init__(self, normal: ArrayLike, offset: float) -> None: ...
+    @property
+    def normal(self) -> np.ndarray: ...
+    @property
+    def offset(self) -> float: ...
+
+class Halfspace(Geometry):
+    """FCL halfspace {x : normal . x <= offset}, normal and offset divided by the normal's length."""
+    def __init__(self, normal: ArrayLike, offset: float) -> None: ...
+    @property
+    def normal(self) -> np.ndarray: ...
+    @property
+    def offset(self) -> float: ...
+
 class Contact:
     """One contact, as in python-fcl."""
     b1: int
@@ -199,7 +215,8 @@ class Environment:
     def __contains__(self, name: str) -> bool: ...
     # Names are unique and non-empty; an unknown name raises ValueError.
     def add_shape(self, name: str, shape: Geometry, pose: ArrayLike) -> None:
-        """Adds a Box, Sphere, Ellipsoid, Capsule, Cylinder or Cone at a 4x4 pose in the robot's root frame."""
+        """Adds a Box, Sphere, Ellipsoid, Capsule, Cylinder, Cone, Plane or Halfspace at a 4x4 pose in the robot's
+        root frame (meshes go through add_mesh, octomaps through add_octree)."""
     def add_mesh(self, name: str, vertices: ArrayLike, triangles: ArrayLike, pose: ArrayLike) -> None:
         """Adds a mesh ((V, 3) vertices, (F, 3) integer indices) at a 4x4 pose, built as a tree of the
         environment's BV type."""

@@ -19,6 +19,8 @@
 #include <fcl/geometry/shape/cone.h>
 #include <fcl/geometry/shape/cylinder.h>
 #include <fcl/geometry/shape/ellipsoid.h>
+#include <fcl/geometry/shape/halfspace.h>
+#include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/sphere.h>
 #if FCL_HAVE_OCTOMAP
 #include <fcl/geometry/octree/octree.h>
@@ -171,6 +173,27 @@ double sizeOf(double value, const char* api, const char* argument)
 {
   if (!(value > 0 && std::isfinite(value)))
     badArgument(api, argument, "must be positive and finite, got " + std::to_string(value));
+  return value;
+}
+
+/// A plane's or halfspace's normal: three finite numbers, not all zero, whose length is finite (FCL's constructors
+/// divide by it, and take a zero normal as the x axis silently).
+fcl::Vector3d normalOf(const py::handle& obj, const char* api)
+{
+  const py::array a = realArray(obj, api, "normal");
+  requireShape(a, {3}, api, "normal", "(3,)");
+  const Doubles values = doublesOf(a);
+  requireFinite(values, api, "normal");
+  const fcl::Vector3d n(values.data()[0], values.data()[1], values.data()[2]);
+  if (!(n.norm() > 0 && std::isfinite(n.norm())))
+    badArgument(api, "normal", "must have a non-zero finite length, got (" + std::to_string(n.x()) + ", " +
+                                   std::to_string(n.y()) + ", " + std::to_string(n.z()) + ")");
+  return n;
+}
+
+double offsetOf(double value, const char* api)
+{
+  if (!std::isfinite(value)) badArgument(api, "offset", "must be finite, got " + std::to_string(value));
   return value;
 }
 
@@ -540,6 +563,23 @@ PYBIND11_MODULE(fcl_rs, m)
            }),
            py::arg("radius"), py::arg("length"));
 
+  py::class_<fcl::Planed, Geometry, std::shared_ptr<fcl::Planed>>(
+      m, "Plane", "FCL plane {x : normal . x = offset}, normal and offset divided by the normal's length.")
+      .def(py::init([](const py::handle& normal, double offset) {
+             return fcl::Planed(normalOf(normal, "fcl_rs.Plane"), offsetOf(offset, "fcl_rs.Plane"));
+           }),
+           py::arg("normal"), py::arg("offset"))
+      .def_property_readonly("normal", [](const fcl::Planed& p) { return fcl::Vector3d(p.n); })
+      .def_property_readonly("offset", [](const fcl::Planed& p) { return p.d; });
+  py::class_<fcl::Halfspaced, Geometry, std::shared_ptr<fcl::Halfspaced>>(
+      m, "Halfspace", "FCL halfspace {x : normal . x <= offset}, normal and offset divided by the normal's length.")
+      .def(py::init([](const py::handle& normal, double offset) {
+             return fcl::Halfspaced(normalOf(normal, "fcl_rs.Halfspace"), offsetOf(offset, "fcl_rs.Halfspace"));
+           }),
+           py::arg("normal"), py::arg("offset"))
+      .def_property_readonly("normal", [](const fcl::Halfspaced& h) { return fcl::Vector3d(h.n); })
+      .def_property_readonly("offset", [](const fcl::Halfspaced& h) { return h.d; });
+
   py::class_<fcl::Contactd>(m, "Contact", "One contact, as in python-fcl.")
       .def_readonly("b1", &fcl::Contactd::b1, "triangle of the first geometry (meshes), else -1")
       .def_readonly("b2", &fcl::Contactd::b2, "triangle of the second geometry (meshes), else -1")
@@ -888,24 +928,22 @@ PYBIND11_MODULE(fcl_rs, m)
           [](PyEnvironment& e, const std::string& name, const GeometryPtr& shape, const py::handle& pose) {
             const char* api = "fcl_rs.Environment.add_shape";
             requireNewName(e, name, api);
-            switch (shape->getNodeType())
-            {
-              case fcl::GEOM_BOX:
-              case fcl::GEOM_SPHERE:
-              case fcl::GEOM_ELLIPSOID:
-              case fcl::GEOM_CAPSULE:
-              case fcl::GEOM_CYLINDER:
-              case fcl::GEOM_CONE: break;
-              default:
-                badArgument(api, "shape", "must be a Box, Sphere, Ellipsoid, Capsule, Cylinder or Cone (meshes go "
-                                          "through add_mesh, octomaps through add_octree)");
-            }
             const fcl::Transform3d tf = poseOf(pose, api, "pose");
             const WorldEdit edit(worldLock());
-            e.env.addShape(name, shape, tf);
+            // The shape goes through Environment::addShape's own check (the library's one shape switch); what it
+            // refuses (a mesh, say) is a fault of this argument.
+            try
+            {
+              e.env.addShape(name, shape, tf);
+            }
+            catch (const std::invalid_argument& error)
+            {
+              badArgument(api, "shape", std::string("is refused: ") + error.what());
+            }
           },
           py::arg("name"), py::arg("shape").none(false), py::arg("pose"),
-          "Adds a Box, Sphere, Ellipsoid, Capsule, Cylinder or Cone at a 4x4 pose in the robot's root frame.")
+          "Adds a Box, Sphere, Ellipsoid, Capsule, Cylinder, Cone, Plane or Halfspace at a 4x4 pose in the robot's\n"
+          "root frame (meshes go through add_mesh, octomaps through add_octree).")
       .def(
           "add_mesh",
           [](PyEnvironment& e, const std::string& name, const py::handle& vertices, const py::handle& triangles,

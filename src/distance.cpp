@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include <fcl/narrowphase/distance.h>
 #include <fcl/narrowphase/detail/distance_func_matrix.h>
@@ -254,6 +255,56 @@ S distanceValidated(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S
   throw std::invalid_argument("fcl_rs::distance: unknown request.gjk_solver_type");
 }
 
+template <typename S>
+bool distanceAlong(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
+                   const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
+                   const fcl::Vector3<double>& direction, const fcl::DistanceRequest<S>& request,
+                   fcl::DistanceResult<S>& result)
+{
+  // Exact unsigned distances only (the traversals' error bounds and the signed fallback are theirs).
+  if (request.rel_err != 0 || request.abs_err != 0 || request.enable_signed_distance) return false;
+  const auto* m1 = asRSMesh(o1);
+  const auto* m2 = asRSMesh(o2);
+  if (m1) detail::requireBuiltTriangles(kApi, *m1);
+  if (m2) detail::requireBuiltTriangles(kApi, *m2);
+  if (m1 && m2)
+  {
+    if (request.isSatisfied(result)) return true;
+    MeshDistanceTraversalNodeRS<S> node;
+    initialize(node, *m1, tf1, *m2, tf2, request, result);
+    if (!fcl_rs::distanceAlong(node, Eigen::Vector3d(tf1.linear().template cast<double>().transpose() * direction)))
+      return false;
+    node.MeshDistanceTraversalNodeRS<S>::postprocess();
+    return true;
+  }
+  if (!m1 && !m2) return false;
+  // As distanceRS: the shape goes behind the mesh; the direction then points from the mesh to the shape.
+  const bool mesh_first = m1 != nullptr;
+  const auto& mesh = mesh_first ? *m1 : *m2;
+  const auto* shape = mesh_first ? o2 : o1;
+  const auto& tf_mesh = mesh_first ? tf1 : tf2;
+  const auto& tf_shape = mesh_first ? tf2 : tf1;
+  const Eigen::Vector3d towards_shape = mesh_first ? direction : Eigen::Vector3d(-direction);
+  return withShape(
+      *shape,
+      [&](const auto& geometry) -> bool {
+        using Shape = std::decay_t<decltype(geometry)>;
+        if constexpr (std::is_same_v<Shape, fcl::Box<S>> || std::is_same_v<Shape, fcl::Sphere<S>> ||
+                      std::is_same_v<Shape, fcl::Cylinder<S>> || std::is_same_v<Shape, fcl::Capsule<S>>)
+        {
+          if (request.isSatisfied(result)) return true;
+          fcl::detail::GJKSolver_libccd<S> solver;  // the node asks for one; the RS leaves do not use it
+          MeshShapeDistanceTraversalNodeRS<Shape, fcl::detail::GJKSolver_libccd<S>> node;
+          initialize(node, mesh, tf_mesh, geometry, tf_shape, &solver, request, result);
+          return fcl_rs::distanceAlong(node, Eigen::Vector3d(tf_shape.linear().template cast<double>().transpose() *
+                                                     towards_shape));
+        }
+        else
+          return false;
+      },
+      []() { return false; });
+}
+
 }  // namespace detail
 
 template <typename S>
@@ -286,6 +337,10 @@ S distance(const fcl::CollisionObject<S>* o1, const fcl::CollisionObject<S>* o2,
   template S detail::distanceValidated<S>(const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,        \
                                           const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,        \
                                           const fcl::DistanceRequest<S>&, fcl::DistanceResult<S>&);          \
+  template bool detail::distanceAlong<S>(const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,        \
+                                         const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,        \
+                                         const fcl::Vector3<double>&, const fcl::DistanceRequest<S>&,       \
+                                         fcl::DistanceResult<S>&);                                           \
   template S distance<S>(const fcl::CollisionObject<S>*, const fcl::CollisionObject<S>*,                     \
                          const fcl::DistanceRequest<S>&, fcl::DistanceResult<S>&);                           \
   template S distance<S>(const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,                        \

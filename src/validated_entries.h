@@ -26,6 +26,17 @@ S distanceValidated(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S
                     const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
                     const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result);
 
+/// fcl_rs::distance of an RS mesh and an RS mesh, box, sphere, cylinder or capsule, without a descent
+/// (distanceAlong in traversal/distance_traversal.h), given `direction` (world frame, from o1 towards o2) nearly
+/// normal to their gap: true when the result is what distanceValidated gives, to the bit; false, leaving a result
+/// distanceValidated completes to the same answer, for other pairs, for requests with rel_err, abs_err or signed
+/// distances, and when the direction leaves too many triangles to measure.
+template <typename S>
+bool distanceAlong(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
+                   const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2,
+                   const fcl::Vector3<double>& direction, const fcl::DistanceRequest<S>& request,
+                   fcl::DistanceResult<S>& result);
+
 }  // namespace detail
 }  // namespace fcl_rs
 

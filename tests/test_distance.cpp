@@ -5,8 +5,10 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <random>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <vector>
 
@@ -336,6 +338,73 @@ fcl::Vector3<S> randomPoint(Rng& rng, S scale)
   return fcl::Vector3<S>(S(u(rng)), S(u(rng)), S(u(rng))) * scale;
 }
 
+/// A unit vector tilted from d by about `tilt` radians (0: d itself), seeded.
+template <typename S, typename Rng>
+Eigen::Vector3d tilted(Rng& rng, const fcl::Vector3<S>& d, double tilt)
+{
+  std::normal_distribution<double> g;
+  const Eigen::Vector3d unit = d.template cast<double>().normalized();
+  return (unit + tilt * Eigen::Vector3d(g(rng), g(rng), g(rng))).normalized();
+}
+
+// distanceAlong (no descent) gives distanceTrees's answer to the bit whenever it answers: on seeded nearby poses of
+// convex (ellipsoid, box) and non-convex (torus) meshes, along the nearest points' direction, tilted ones and a
+// random one, starting from no distance, from above and from below the answer. Along the nearest points'
+// direction it answers for most free poses of the convex pairs, so the comparison is not vacuous.
+TYPED_TEST(DistanceMeshMesh, DistanceAlongAGapDirectionIsTheTraversals)
+{
+  using S = TypeParam;
+  const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.25)));
+  const auto ellipsoid = prepare<S>("ellipsoid", fcl_rs::makeEllipsoid<S>(1, S(0.5), S(0.25)));
+  const auto box = prepare<S>("box", fcl_rs::makeBox<S>(1, S(0.4), S(0.2)));
+  for (const auto& [a, b, convex] : {std::make_tuple(&ellipsoid, &box, true), std::make_tuple(&ellipsoid, &ellipsoid, true),
+                                     std::make_tuple(&torus, &ellipsoid, false)})
+  {
+    const std::string what = "distance/along/" + a->name + "/" + b->name + "/" + scalarName<S>();
+    auto rng = fcl_rs::test::seededRng(what);
+    int free_poses = 0, answered_along_gap = 0;
+    for (int i = 0; i < 40; ++i)
+    {
+      SCOPED_TRACE(what + " pose #" + std::to_string(i));
+      const auto [tf1, tf2] = nearbyPoses(rng, *a, *b, S(0.8), S(2) * (a->radius + b->radius));
+      const fcl::DistanceRequest<S> request(/*enable_nearest_points=*/true);
+      fcl::DistanceResult<S> reference;
+      fcl_rs::distance<S>(a->rs.get(), tf1, b->rs.get(), tf2, request, reference);
+      if (!(reference.min_distance > 0)) continue;
+      ++free_poses;
+      const fcl::Vector3<S> gap = reference.nearest_points[1] - reference.nearest_points[0];
+      for (const double tilt : {0.0, 0.01, 0.3, 10.0})
+      {
+        const Eigen::Vector3d direction = tf1.linear().template cast<double>().transpose() * tilted(rng, gap, tilt);
+        for (const S start : {std::numeric_limits<S>::max(), S(1.5) * reference.min_distance,
+                              S(0.5) * reference.min_distance})
+        {
+          fcl::DistanceResult<S> result;
+          result.min_distance = start;
+          fcl_rs::MeshDistanceTraversalNodeRS<S> node;
+          fcl_rs::initialize(node, *a->rs, tf1, *b->rs, tf2, request, result);
+          if (!fcl_rs::distanceAlong(node, direction)) continue;
+          node.postprocess();
+          answered_along_gap += tilt == 0 && start == std::numeric_limits<S>::max();
+          EXPECT_EQ(result.min_distance, std::min(start, reference.min_distance)) << "tilt " << tilt << ", start " << start;
+          if (start > reference.min_distance)
+          {
+            EXPECT_NEAR((result.nearest_points[1] - result.nearest_points[0]).norm(), result.min_distance,
+                        distanceTolerance<S>() * (a->radius + b->radius));
+          }
+        }
+      }
+    }
+    std::cout << "[distance] " << what << ": " << free_poses << " free poses, " << answered_along_gap
+              << " answered along the nearest points' direction\n";
+    EXPECT_GE(free_poses, 10) << what;
+    if (convex)
+    {
+      EXPECT_GE(answered_along_gap, free_poses / 2) << what;
+    }
+  }
+}
+
 // The traversal's leaf filter (distance_traversal.h) skips a triangle pair only when its exact distance reaches the
 // given distance, and skips pairs apart along their centroids' line; pairs far from the origin stress its rounding.
 TYPED_TEST(DistanceMeshMesh, LeafFilterSkipsOnlyPairsThatCannotImprove)
@@ -531,6 +600,70 @@ TYPED_TEST(DistanceMeshShape, BothOrdersFindTheNearestLeaf)
       EXPECT_GE(colliding, 1) << what << ": no colliding pose";
       EXPECT_LE(colliding, 38) << what << ": too few free poses";
     }
+}
+
+// distanceAlong for a mesh and a shape (box, sphere, capsule, cylinder; the others have no closed-form support and
+// are refused) gives distanceMeshShape's answer to the bit whenever it answers, as for meshes above; seeded poses of
+// an ellipsoid mesh about each shape, along the nearest points' direction, a tilted one and a random one.
+TYPED_TEST(DistanceMeshShape, DistanceAlongAGapDirectionIsTheTraversals)
+{
+  using S = TypeParam;
+  using Solver = fcl::detail::GJKSolver_libccd<S>;
+  const auto ellipsoid = prepare<S>("ellipsoid", fcl_rs::makeEllipsoid<S>(1, S(0.5), S(0.25)));
+  for (const auto& [name, shape] : shapes<S>())
+  {
+    const std::string what = "distance/along/ellipsoid/" + name + "/" + scalarName<S>();
+    auto rng = fcl_rs::test::seededRng(what);
+    const bool closed_form = name == "box" || name == "sphere" || name == "capsule" || name == "cylinder";
+    int free_poses = 0, answered_along_gap = 0;
+    for (int i = 0; i < 30; ++i)
+    {
+      SCOPED_TRACE(what + " pose #" + std::to_string(i));
+      const fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(1));
+      fcl::Transform3<S> tf2 = fcl_rs::test::randomPose<S>(rng, S(1.6));
+      tf2.translation() += tf1.translation();
+      const fcl::DistanceRequest<S> request(/*enable_nearest_points=*/true);
+      fcl::DistanceResult<S> reference;
+      fcl_rs::distance<S>(ellipsoid.rs.get(), tf1, shape.get(), tf2, request, reference);
+      if (!(reference.min_distance > 0)) continue;
+      ++free_poses;
+      const fcl::Vector3<S> gap = reference.nearest_points[1] - reference.nearest_points[0];
+      for (const double tilt : {0.0, 0.3, 10.0})
+      {
+        const Eigen::Vector3d direction = tf2.linear().template cast<double>().transpose() * tilted(rng, gap, tilt);
+        const bool answered = fcl_rs::detail::withShape(
+            *shape,
+            [&](const auto& geometry) {
+              using Shape = std::decay_t<decltype(geometry)>;
+              if constexpr (std::is_same_v<Shape, fcl::TriangleP<S>> || std::is_same_v<Shape, fcl::Plane<S>> ||
+                            std::is_same_v<Shape, fcl::Halfspace<S>>)
+                return false;
+              else
+              {
+                Solver solver;
+                fcl::DistanceResult<S> result;
+                fcl_rs::MeshShapeDistanceTraversalNodeRS<Shape, Solver> node;
+                fcl_rs::initialize(node, *ellipsoid.rs, tf1, geometry, tf2, &solver, request, result);
+                if (!fcl_rs::distanceAlong(node, direction)) return false;
+                EXPECT_EQ(result.min_distance, reference.min_distance) << "tilt " << tilt;
+                EXPECT_NEAR((result.nearest_points[1] - result.nearest_points[0]).norm(), result.min_distance,
+                            16 * std::numeric_limits<S>::epsilon() * 2);
+                return true;
+              }
+            },
+            []() { return false; });
+        EXPECT_TRUE(closed_form || !answered) << "a shape without a closed-form support was measured along";
+        answered_along_gap += answered && tilt == 0;
+      }
+    }
+    std::cout << "[distance] " << what << ": " << free_poses << " free poses, " << answered_along_gap
+              << " answered along the nearest points' direction\n";
+    EXPECT_GE(free_poses, 10) << what;
+    if (closed_form)
+    {
+      EXPECT_GE(answered_along_gap, free_poses / 2) << what;
+    }
+  }
 }
 
 /// Signed distance: free poses as the unsigned distance; colliding ones minus the deepest penetration over all

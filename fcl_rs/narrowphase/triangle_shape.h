@@ -38,6 +38,7 @@
 #include <fcl/narrowphase/collision_result.h>
 
 #include "fcl_rs/bvh/node_links.h"
+#include "fcl_rs/detail/relative_poses.h"
 #include "fcl_rs/narrowphase/triangle_intersection.h"
 
 namespace fcl_rs {
@@ -315,9 +316,10 @@ Closest gjk(const SupportOf& supportOf, const Vec& start, double touch, double a
 /// A lower bound on the distance between the convex hulls of points a (posed by pa) and points b (posed by pb),
 /// each at least one point: gjk's certified bound, from `start` (roughly from b towards a), stopped once it
 /// exceeds `enough` (a caller that only asks whether the hulls are that far apart needs no more). Exact but for
-/// rounding, a few ulps of the points' and poses' scale.
+/// rounding, a few ulps of the points' and poses' scale. direction: from the closest point reached on a's hull to
+/// b's (zero when the hulls meet), the hulls' gap direction once GJK has converged.
 inline double hullsLowerBound(const std::vector<Vec>& a, const Eigen::Isometry3d& pa, const std::vector<Vec>& b,
-                              const Eigen::Isometry3d& pb, const Vec& start, double enough)
+                              const Eigen::Isometry3d& pb, const Vec& start, double enough, Vec* direction = nullptr)
 {
   const Eigen::Matrix3d ra = pa.linear().transpose(), rb = pb.linear().transpose();
   const auto lowest = [](const std::vector<Vec>& points, const Vec& d) -> const Vec& {
@@ -337,7 +339,8 @@ inline double hullsLowerBound(const std::vector<Vec>& a, const Eigen::Isometry3d
     return DifferencePoint{pa_point, pb_point, pa_point - pb_point};
   };
   double lower = 0;
-  gjk(supportOf, start, 0, enough, lower);
+  const Closest reached = gjk(supportOf, start, 0, enough, lower);
+  if (direction) *direction = reached.on_shape - reached.on_triangle;
   return lower;
 }
 
@@ -747,10 +750,11 @@ public:
     return t1_.template lpNorm<1>() + t2_.template lpNorm<1>() + T_.template lpNorm<1>() +
            6 * (mesh_reach + S(geometry_.reach()));
   }
-  S tolerance(const fcl::Vector3<S> p[3]) const
-  {
-    return leafTolerance<S>(std::max(largestCoordinate(p), S(geometry_.reach())), t1_, t2_, T_);
-  }
+  S tolerance(const fcl::Vector3<S> p[3]) const { return tolerance(largestCoordinate(p)); }
+  /// The tolerance of a triangle whose largest coordinate is `size`; it grows with size.
+  S tolerance(S size) const { return leafTolerance<S>(std::max(size, S(geometry_.reach())), t1_, t2_, T_); }
+  /// The map of the mesh's frame to the shape's, in which the leaf measures.
+  const Eigen::Isometry3d& meshToShape() const { return mesh_to_shape_; }
 
 private:
   /// The iterative shapes decide the verdict and the distance in one run.
@@ -774,8 +778,9 @@ private:
 
 /// The contact of triangle p (the mesh's frame, the mesh at tf_mesh) and shape (at tf_shape), a pair leaf.meets,
 /// as FCL's solver gives it with the shape first (normal from the shape towards the triangle): position, normal
-/// and depth from FCL's solver where it finds the pair too; where it does not (a pair within the tolerance that
-/// FCL's GJK calls apart), the contact sits midway between the closest points with depth 0.
+/// and depth from FCL's solver where it finds the pair too (far from the origin with both poses moved by
+/// -tf_shape's translation, fcl_rs/detail/relative_poses.h, and the position moved back); where it does not (a pair
+/// within the tolerance that FCL's GJK calls apart), the contact sits midway between the closest points with depth 0.
 template <typename Shape, typename Solver>
 void shapeTriangleContact(const TriangleShapeLeaf<Shape>& leaf, const std::array<fcl::Vector3<typename Shape::S>, 3>& p,
                           const Shape& shape, const fcl::Transform3<typename Shape::S>& tf_shape,
@@ -784,7 +789,18 @@ void shapeTriangleContact(const TriangleShapeLeaf<Shape>& leaf, const std::array
                           typename Shape::S& depth)
 {
   using S = typename Shape::S;
-  if (nsolver->shapeTriangleIntersect(shape, tf_shape, p[0], p[1], p[2], tf_mesh, &position, &depth, &normal)) return;
+  // Far from the origin (beyond 2^20) both poses move by -tf_shape's translation, else libccd asserts (fuzz_api:
+  // 1.5e124); near it FCL's own call is kept, its contacts to the bit as FCL's traversals give them (its MPR depths
+  // move with the frame by a few percent).
+  const fcl::Vector3<S> shift =
+      tf_shape.translation().cwiseAbs().maxCoeff() > S(0x1p20) ? fcl::Vector3<S>(tf_shape.translation())
+                                                               : fcl::Vector3<S>::Zero();
+  if (nsolver->shapeTriangleIntersect(shape, detail::shifted(tf_shape, shift), p[0], p[1], p[2],
+                                      detail::shifted(tf_mesh, shift), &position, &depth, &normal))
+  {
+    position += shift;
+    return;
+  }
   triangle_shape::Vec t[3];
   const triangle_shape::Closest c = leaf.geometry().closest(leaf.moved(p.data(), t));
   const Eigen::Isometry3d to_world = tf_shape.template cast<double>();

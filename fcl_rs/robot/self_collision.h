@@ -77,10 +77,11 @@ struct LinkSphere
 /// (inCollision, query without colliding_pairs) tests the pair that collided last first.
 /// A minimum-distance query measures element pairs best first by a lower bound on their distance, tightened only
 /// for the candidate that is nearest so far (link spheres; with RS the link volumes; per element pair the
-/// elements' balls, with RS their volumes, then the distance of their convex hulls by GJK: a mesh's vertices, a
-/// box's corners), and stops when the smallest bound reaches the best distance so far; each measurement starts
-/// at that best, so its traversal skips what cannot beat it. The exact distance of the nearest pair still costs
-/// far more than a collision check (docs/robots.md).
+/// elements' balls, then the distance of their convex hulls by GJK: a mesh's vertices, a box's corners), and
+/// stops when the smallest bound reaches the best distance so far; each measurement starts at that best, so it
+/// skips what cannot beat it. With RS a measurement takes the hulls' gap direction and measures only the
+/// triangles near the gap along it when they are few (convex meshes), without a tree descent; its cost is in
+/// docs/robots.md.
 ///
 /// How each BV type is queried (the fastest path FCL offers for it):
 /// * RS, OBBRSS, OBB, RSS: mesh-mesh in the links' own frames through collideWithStats (the relative

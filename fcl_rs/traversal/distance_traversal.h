@@ -105,6 +105,22 @@ private:
 
 namespace detail {
 
+/// The mesh-mesh leaf: triangle id1 of model1 (vertices tri1) and triangle id2 of model2 (vertices tri2, moved into
+/// model1's frame by node.tf as V(node.tf * v)) measured by FCL's triangle distance, the result updated. Every
+/// mesh-mesh distance measures its triangle pairs here, so a pair gives the same value whichever search reaches it.
+template <typename S>
+void measureTrianglePair(MeshDistanceTraversalNodeRS<S>& node, int id1, int id2, const fcl::Vector3<S> tri1[3],
+                         const fcl::Vector3<S> tri2[3])
+{
+  if (node.enable_statistics) node.num_leaf_tests++;
+  fcl::Vector3<S> P, Q;
+  const S d = fcl::detail::TriangleDistance<S>::triDistance(tri1, tri2, P, Q);
+  if (node.request.enable_nearest_points)
+    node.result->update(d, node.model1, node.model2, id1, id2, P, Q);
+  else
+    node.result->update(d, node.model1, node.model2, id1, id2);
+}
+
 /// The descent policy of mesh-mesh distance (descendBestFirst). A pair of leaves is bounded by its triangles'
 /// distance itself, which is exact and cheaper than an RS bound (docs/kernel.md): it is measured at once, and the
 /// pair is never visited again. A gap along the line through the triangles' centroids first skips pairs that
@@ -145,16 +161,7 @@ public:
     const V* tri1 = p_vertices.data();
     const std::array<std::size_t, 3> t2 = vertexIds(node_.tri_indices2[id2]);
     const V tri2[3] = {movedVertex(int(t2[0])), movedVertex(int(t2[1])), movedVertex(int(t2[2]))};
-    if (!leafCannotImprove(tri1, tri2, node_.result->min_distance))
-    {
-      if (node_.enable_statistics) node_.num_leaf_tests++;
-      V P, Q;
-      const S d = fcl::detail::TriangleDistance<S>::triDistance(tri1, tri2, P, Q);
-      if (node_.request.enable_nearest_points)
-        node_.result->update(d, node_.model1, node_.model2, id1, id2, P, Q);
-      else
-        node_.result->update(d, node_.model1, node_.model2, id1, id2);
-    }
+    if (!leafCannotImprove(tri1, tri2, node_.result->min_distance)) measureTrianglePair(node_, id1, id2, tri1, tri2);
     return std::numeric_limits<S>::max();
   }
 
@@ -271,7 +278,7 @@ public:
 
   std::optional<TriangleShapeLeaf<Shape>> leaf;
 
-private:
+  /// The leaf: triangle primitive_id measured, the result updated.
   /// A triangle that meets the shape reports -1 (FCL's convention for its shape-triangle distances), except
   /// against a sphere without enable_signed_distance: 0, what FCL's sphere-triangle distance leaves in practice
   /// (it writes nothing there) and its mesh-mesh distance reports while colliding.
@@ -336,6 +343,229 @@ void distanceMeshShape(MeshShapeDistanceTraversalNodeRS<Shape, NarrowPhaseSolver
   detail::descendBestFirst<detail::MeshShapeDistanceDescent<Node>, typename Shape::S>(descent, {0},
                                                                                       detail::DescentConfig{64});
   node.Node::postprocess();
+}
+
+// Distance along a separating direction. Best first, a search that already holds a direction n nearly normal to
+// the gap of a pair (GJK on the elements' convex hulls gives one) can measure the pair without a descent: the
+// gap between two triangles' projections on a unit n bounds their distance from below, so a triangle pair whose
+// projections are farther apart than the answer cannot be the nearest. When n separates the pair by nearly its
+// distance (convex meshes, or convex where they are nearest), the pairs left are the few triangles about the
+// nearest features, measured with the traversals' own leaves: the minimum is the traversal's to the bit.
+
+namespace detail {
+
+/// Per triangle of model, the largest projection of its vertices on n (model's frame), into `highest`; returns
+/// the largest over the model.
+template <typename S>
+double highestAlong(const fcl::BVHModel<RS<S>>& model, const Eigen::Vector3d& n, std::vector<double>& highest)
+{
+  highest.resize(std::size_t(model.num_tris));
+  double top = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < model.num_tris; ++i)
+  {
+    const std::array<std::size_t, 3> ids = vertexIds(model.tri_indices[i]);
+    const double h = std::max({n.dot(model.vertices[ids[0]].template cast<double>()),
+                               n.dot(model.vertices[ids[1]].template cast<double>()),
+                               n.dot(model.vertices[ids[2]].template cast<double>())});
+    highest[std::size_t(i)] = h;
+    top = std::max(top, h);
+  }
+  return top;
+}
+
+/// A bound on |v| for every vertex v of model, from its root volume (frame coordinates within its magnitude).
+template <typename S>
+double modelReach(const fcl::BVHModel<RS<S>>& model)
+{
+  const RS<S>& root = model.getBV(0).bv;
+  return double(root.origin.norm()) + 2 * double(root.magnitude());
+}
+
+/// The smallest projection on n of a shape in its own frame, for the shapes whose support is closed form.
+template <typename S>
+std::optional<double> lowestAlong(const fcl::Box<S>& b, const Eigen::Vector3d& n)
+{
+  return -0.5 * b.side.template cast<double>().dot(n.cwiseAbs());
+}
+template <typename S>
+std::optional<double> lowestAlong(const fcl::Sphere<S>& s, const Eigen::Vector3d& n)
+{
+  return -double(s.radius) * n.norm();
+}
+template <typename S>
+std::optional<double> lowestAlong(const fcl::Cylinder<S>& c, const Eigen::Vector3d& n)
+{
+  return -(double(c.radius) * std::hypot(n.x(), n.y()) + 0.5 * double(c.lz) * std::abs(n.z()));
+}
+template <typename S>
+std::optional<double> lowestAlong(const fcl::Capsule<S>& c, const Eigen::Vector3d& n)
+{
+  return -(double(c.radius) * n.norm() + 0.5 * double(c.lz) * std::abs(n.z()));
+}
+template <typename Shape>
+std::optional<double> lowestAlong(const Shape&, const Eigen::Vector3d&)
+{
+  return std::nullopt;
+}
+
+/// The axis-aligned box of a triangle's vertices (in double: exact), for a cheap lower bound on a distance.
+struct TriangleBox
+{
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+  TriangleBox() = default;
+  template <typename Scalar>
+  explicit TriangleBox(const Eigen::Matrix<Scalar, 3, 1> t[3])
+    : lo(t[0].template cast<double>().cwiseMin(t[1].template cast<double>()).cwiseMin(t[2].template cast<double>())),
+      hi(t[0].template cast<double>().cwiseMax(t[1].template cast<double>()).cwiseMax(t[2].template cast<double>()))
+  {
+  }
+  /// The distance between the two boxes (rounded to nearest: within an ulp or two of the exact one).
+  double gap(const TriangleBox& other) const
+  {
+    return (lo - other.hi).cwiseMax(other.lo - hi).cwiseMax(0.0).norm();
+  }
+};
+
+/// Scratch of the slab searches, per thread: a query allocates nothing once its thread has run one.
+struct SlabScratch
+{
+  std::vector<double> highest1, highest2;
+  std::vector<int> candidates1, candidates2;
+};
+inline SlabScratch& slabScratch()
+{
+  static thread_local SlabScratch scratch;
+  return scratch;
+}
+
+}  // namespace detail
+
+/// Most triangle pairs (mesh-mesh) or triangles (mesh-shape) a slab search measures before it gives up.
+constexpr int kSlabMaxMeasured = 256;
+
+/// distanceTrees(node) without the descent, when `direction` (model1's frame, from model1 towards model2) leaves
+/// few triangle pairs within the answer of each other along it (see above). True: node.result holds what
+/// distanceTrees would give, to the bit (with its nearest points, still in model1's frame). False: more than
+/// kSlabMaxMeasured pairs remain; node.result may have been lowered by measured pairs, which leaves the
+/// traversal's answer unchanged.
+///
+/// Pairs are measured in two passes at most. A pass with threshold t measures every pair whose projections come
+/// within t + margin; every other pair's exact distance exceeds t + margin, so FCL's triangle distance (points on
+/// the triangles to a few ulps of S; model2's vertices moved in S, projections in double: the margin is 256 ulps
+/// of S and 64 of double of the coordinates' scale) measures it above t. Once the answer is at most t it is the
+/// minimum over all pairs. The first pass takes t just above the gap along n (the distance itself for convex
+/// meshes and a converged direction), capped by the distance held; the second, if needed, the answer of the first.
+template <typename S>
+bool distanceAlong(MeshDistanceTraversalNodeRS<S>& node, const Eigen::Vector3d& direction)
+{
+  using V = fcl::Vector3<S>;
+  const double length = direction.norm();
+  if (!(length > 0) || !std::isfinite(length)) return false;
+  const Eigen::Vector3d n = direction / length;
+  const fcl::BVHModel<RS<S>>& m1 = *node.model1;
+  const fcl::BVHModel<RS<S>>& m2 = *node.model2;
+  detail::SlabScratch& scratch = detail::slabScratch();
+  const Eigen::Matrix3d R = node.tf.linear().template cast<double>();
+  const Eigen::Vector3d T = node.tf.translation().template cast<double>();
+  // model1's triangles' highest projections; model2's lowest, as offset2 - highest2 (its highest on -n).
+  const double top1 = detail::highestAlong(m1, n, scratch.highest1);
+  const double offset2 = n.dot(T);
+  const double bottom2 = offset2 - detail::highestAlong(m2, Eigen::Vector3d(-(R.transpose() * n)), scratch.highest2);
+  const double reach = std::max(detail::modelReach(m1), detail::modelReach(m2) + T.norm());
+  const double margin = (256 * double(std::numeric_limits<S>::epsilon()) + 64 * std::numeric_limits<double>::epsilon()) * reach;
+  S threshold = std::min(node.result->min_distance, S(std::max(bottom2 - top1, 0.0) + 1e-6 * reach));
+  V moved[kSlabMaxMeasured][3];
+  detail::TriangleBox boxes2[kSlabMaxMeasured];
+  for (;;)
+  {
+    const double within = double(threshold) + margin;
+    scratch.candidates1.clear();
+    scratch.candidates2.clear();
+    for (int i = 0; i < m1.num_tris; ++i)
+      if (scratch.highest1[std::size_t(i)] >= bottom2 - within) scratch.candidates1.push_back(i);
+    for (int j = 0; j < m2.num_tris; ++j)
+      if (offset2 - scratch.highest2[std::size_t(j)] <= top1 + within) scratch.candidates2.push_back(j);
+    if (scratch.candidates1.empty()) return true;  // no pair within the distance held
+    if (scratch.candidates1.size() * scratch.candidates2.size() > std::size_t(kSlabMaxMeasured)) return false;
+    // Nearest along n first, so that the boxes' gaps below skip most of the others.
+    std::sort(scratch.candidates1.begin(), scratch.candidates1.end(),
+              [&](int x, int y) { return scratch.highest1[std::size_t(x)] > scratch.highest1[std::size_t(y)]; });
+    std::sort(scratch.candidates2.begin(), scratch.candidates2.end(),
+              [&](int x, int y) { return scratch.highest2[std::size_t(x)] > scratch.highest2[std::size_t(y)]; });
+    for (std::size_t k = 0; k < scratch.candidates2.size(); ++k)
+    {
+      const std::array<std::size_t, 3> ids = vertexIds(node.tri_indices2[scratch.candidates2[k]]);
+      for (int c = 0; c < 3; ++c) moved[k][c] = V(node.tf * node.vertices2[ids[std::size_t(c)]]);
+      boxes2[k] = detail::TriangleBox(moved[k]);
+    }
+    for (const int i : scratch.candidates1)
+    {
+      const std::array<V, 3> tri1 = triangleVertices(node.vertices1, node.tri_indices1[i]);
+      const detail::TriangleBox box1(tri1.data());
+      for (std::size_t k = 0; k < scratch.candidates2.size(); ++k)
+      {
+        const int j = scratch.candidates2[k];
+        // The gap along n, then the gap of the triangles' boxes: both at most the pair's distance.
+        if (offset2 - scratch.highest2[std::size_t(j)] - scratch.highest1[std::size_t(i)] <= within &&
+            box1.gap(boxes2[k]) <= double(node.result->min_distance) + margin)
+          detail::measureTrianglePair(node, i, j, tri1.data(), moved[k]);
+      }
+    }
+    if (!(node.result->min_distance > threshold)) return true;
+    threshold = node.result->min_distance;  // the second pass measures every pair that can be below it
+  }
+}
+
+/// distanceMeshShape(node) without the descent, as distanceAlong for meshes: `direction` in the shape's frame,
+/// from the mesh towards the shape. The leaf measures in double in the shape's frame: the margin is 256 ulps of
+/// double of the coordinates' scale and the leaf's tolerance (a triangle beyond it does not meet the shape).
+/// False for shapes without a closed-form support (lowestAlong) and when more than kSlabMaxMeasured triangles
+/// remain.
+template <typename Shape, typename NarrowPhaseSolver>
+bool distanceAlong(MeshShapeDistanceTraversalNodeRS<Shape, NarrowPhaseSolver>& node, const Eigen::Vector3d& direction)
+{
+  using S = typename Shape::S;
+  const double length = direction.norm();
+  if (!(length > 0) || !std::isfinite(length)) return false;
+  const Eigen::Vector3d n = direction / length;
+  const std::optional<double> bottom = detail::lowestAlong(*node.model2, n);
+  if (!bottom) return false;
+  const fcl::BVHModel<RS<S>>& mesh = *node.model1;
+  detail::SlabScratch& scratch = detail::slabScratch();
+  const Eigen::Isometry3d& to_shape = node.leaf->meshToShape();
+  const double offset = n.dot(to_shape.translation());
+  const double top = offset + detail::highestAlong(mesh, Eigen::Vector3d(to_shape.linear().transpose() * n), scratch.highest1);
+  const double mesh_reach = detail::modelReach(mesh);
+  const double reach = std::max(mesh_reach + to_shape.translation().norm(), node.leaf->geometry().reach());
+  const double margin = 256 * std::numeric_limits<double>::epsilon() * reach + double(node.leaf->tolerance(S(mesh_reach)));
+  S threshold = std::min(node.result->min_distance, S(std::max(*bottom - top, 0.0) + 1e-6 * reach));
+  detail::TriangleBox shape_box;
+  for (int k = 0; k < 3; ++k)
+  {
+    shape_box.lo[k] = *detail::lowestAlong(*node.model2, Eigen::Vector3d::Unit(k));
+    shape_box.hi[k] = -*detail::lowestAlong(*node.model2, Eigen::Vector3d(-Eigen::Vector3d::Unit(k)));
+  }
+  for (;;)
+  {
+    const double within = double(threshold) + margin;
+    scratch.candidates1.clear();
+    for (int i = 0; i < mesh.num_tris; ++i)
+      if (offset + scratch.highest1[std::size_t(i)] >= *bottom - within) scratch.candidates1.push_back(i);
+    if (scratch.candidates1.size() > std::size_t(kSlabMaxMeasured)) return false;
+    // Nearest along n first, so that the boxes' gaps below skip most of the others.
+    std::sort(scratch.candidates1.begin(), scratch.candidates1.end(),
+              [&](int x, int y) { return scratch.highest1[std::size_t(x)] > scratch.highest1[std::size_t(y)]; });
+    for (const int i : scratch.candidates1)
+    {
+      const std::array<fcl::Vector3<S>, 3> p = triangleVertices(node.vertices, node.tri_indices[i]);
+      triangle_shape::Vec t[3];
+      // The gap of the moved triangle's box and the shape's: at most their distance.
+      if (detail::TriangleBox(node.leaf->moved(p.data(), t)).gap(shape_box) <= double(node.result->min_distance) + margin)
+        node.triangleDistance(i);
+    }
+    if (!(node.result->min_distance > threshold)) return true;
+    threshold = node.result->min_distance;
+  }
 }
 
 }  // namespace fcl_rs

@@ -204,8 +204,20 @@ CHILD = textwrap.dedent(r'''
     assert env.obstacle_names == ["box"], env.obstacle_names
     for name, shape in [("mesh", mesh)] + ([("octree", fcl_rs.OcTree(vertices, 0.1))] if hasattr(fcl_rs, "OcTree") else []):
         expect(f"add_shape shape={name}", lambda: env.add_shape("new", shape, I), ValueError if name == "mesh" else TypeError,
-               f"{api}.add_shape: shape must be a Box, Sphere" if name == "mesh" else "incompatible")
+               f"{api}.add_shape: shape is refused: .*not a primitive shape" if name == "mesh" else "incompatible")
     expect("add_shape shape=None", lambda: env.add_shape("new", None, I), TypeError, "incompatible")
+    # Planes and halfspaces: a normal of three finite numbers with a non-zero finite length, a finite offset.
+    for cls in (fcl_rs.Plane, fcl_rs.Halfspace):
+        where = f"fcl_rs.{cls.__name__}"
+        expect(f"{where} normal nan", lambda: cls([0, nan, 1], 0), ValueError, rf"{where}: normal\[1\] is not finite")
+        expect(f"{where} normal inf", lambda: cls([inf, 0, 0], 0), ValueError, rf"{where}: normal\[0\] is not finite")
+        expect(f"{where} normal zero", lambda: cls([0, 0, 0], 0), ValueError, f"{where}: normal must have a non-zero finite length")
+        expect(f"{where} normal overflow", lambda: cls([1e200, 1e200, 0], 0), ValueError, f"{where}: normal must have a non-zero finite length")
+        expect(f"{where} normal shape", lambda: cls([0, 1], 0), ValueError, rf"{where}: normal must have shape \(3,\)")
+        expect(f"{where} normal dtype", lambda: cls(["a", "b", "c"], 0), ValueError, f"{where}: normal must hold real numbers")
+        expect(f"{where} offset nan", lambda: cls([0, 0, 1], nan), ValueError, f"{where}: offset must be finite")
+        expect(f"{where} offset -inf", lambda: cls([0, 0, 1], -inf), ValueError, f"{where}: offset must be finite")
+        expect(f"{where} offset None", lambda: cls([0, 0, 1], None), TypeError, "incompatible")
     expect("add_mesh vertices nan", lambda: env.add_mesh("new", np.where(np.eye(4, 3) == 1, nan, vertices), triangles, I),
            ValueError, rf"{api}.add_mesh: vertices\[0, 0\] is not finite")
     expect("add_mesh vertices shape", lambda: env.add_mesh("new", vertices[:, :2], triangles, I), ValueError,

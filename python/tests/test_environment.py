@@ -400,3 +400,22 @@ def test_example_runs_and_readme_quotes_it(capsys, monkeypatch):
     assert lines[3] == "after the scan: [('panda_hand', 'scan', False)]"
     with open(path) as f, open(os.path.join(SOURCE_DIR, "README.md")) as readme:
         assert f.read() in readme.read(), "README's environment example differs from python/examples/environment.py"
+
+
+def test_planes_and_halfspaces_are_obstacles(chain_urdf):
+    """add_shape takes what Environment::addShape takes, planes and halfspaces included (normal and offset divided
+    by the normal's length, as FCL's constructors do): the upright chain (base link z in [0, 0.4], tip near 2.6)
+    is 0.01 above a halfspace below z = -0.01, and crosses a plane at z = 1 and a halfspace below z = 0.2."""
+    env = fcl_rs.Environment(chain_urdf)
+    straight = np.zeros(env.dof)
+    floor = fcl_rs.Halfspace([0, 0, 2], -0.02)
+    assert np.allclose(floor.normal, [0, 0, 1]) and floor.offset == -0.01
+    env.add_shape("floor", floor, np.eye(4))
+    result = env.query(straight, pairs=True, minimum_distance=True)
+    assert not result["colliding"]
+    assert abs(result["minimum_distance"] - 0.01) < 1e-9 and result["nearest_pair"] == ("link0", "floor", False)
+    env.add_shape("ceiling", fcl_rs.Plane([0, 0, 1], 1), np.eye(4))
+    env.add_shape("ground", fcl_rs.Halfspace([0, 0, 1], 0.2), np.eye(4))
+    hit = env.query(straight, pairs=True)
+    obstacles = {pair[1] for pair in hit["pairs"]}
+    assert hit["colliding"] and {"ceiling", "ground"} <= obstacles and "floor" not in obstacles

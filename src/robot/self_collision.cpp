@@ -25,6 +25,7 @@
 #include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
+#include "../validated_entries.h"
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/distance.h"
@@ -322,25 +323,52 @@ std::vector<fcl::Vector3d> primitiveHullPoints(const Primitive& p, double& radiu
   return corners;
 }
 
+/// Whether the plane of every triangle of mesh with area has all `points` on one side, to 1e-2 of their reach.
+bool convexPosition(const TriangleMesh<double>& mesh, const std::vector<fcl::Vector3d>& points)
+{
+  double reach = 0;
+  for (const fcl::Vector3d& p : points) reach = std::max(reach, p.norm());
+  const double tolerance = 1e-2 * reach;
+  for (const auto& t : mesh.triangles)
+  {
+    const fcl::Vector3d& v0 = mesh.vertices[t[0]];
+    const fcl::Vector3d normal = (mesh.vertices[t[1]] - v0).cross(mesh.vertices[t[2]] - v0);
+    if (!(normal.norm() > 0)) continue;
+    const fcl::Vector3d unit = normal.normalized();
+    double below = 0, above = 0;
+    for (const fcl::Vector3d& p : points)
+    {
+      const double h = unit.dot(p - v0);
+      below = std::min(below, h);
+      above = std::max(above, h);
+      if (below < -tolerance && above > tolerance) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 template <typename S>
 struct SelfCollision<S>::Impl
 {
   using Shape = LinkShape<S>;
-  /// One collision element of a link as the minimum-distance search bounds it: a ball and an RS volume about it
-  /// in the link frame.
+  /// One collision element of a link as the minimum-distance search bounds it: a ball about it in the link frame
+  /// and its hull.
   struct Element
   {
     const fcl::CollisionGeometry<S>* geometry = nullptr;  ///< the mesh tree (in the checker's BV type) or a shape
     Tf<S> origin = Tf<S>::Identity();                     ///< in the link frame
     fcl::Vector3<S> center = fcl::Vector3<S>::Zero();
     S radius = 0;
-    RS<S> bound;
     /// Points of the link frame (in double) whose convex hull, grown by hull_radius, holds the element: the
     /// mesh's vertices, or primitiveHullPoints. hull_reach: the largest |point| + hull_radius.
     std::vector<fcl::Vector3d> hull_points;
     double hull_radius = 0, hull_reach = 0;
+    /// Whether every triangle's plane has all the mesh's vertices on one side (to 1e-2 of its reach); shapes are.
+    /// Only convex elements are measured along their hulls' gap direction: elsewhere the direction leaves too
+    /// many triangles, and finding that out would cost more than it saves.
+    bool convex = true;
   };
   struct Link
   {
@@ -421,8 +449,9 @@ struct SelfCollision<S>::Impl
   /// hulls (Element::hull_points) as GJK certifies it, less both hull radii and a margin of 1024 ulps of S on the
   /// poses' offsets and the elements' reaches, which covers the rounding of the exact distance measured (in S, in
   /// the links' relative frame) and of the bound. GJK stops once the bound exceeds `enough`, the best distance so
-  /// far (the pair is skipped then, whatever its bound).
-  static S hullDistance(const Tf<S>& ta, const Element& ea, const Tf<S>& tb, const Element& eb, S enough)
+  /// far (the pair is skipped then, whatever its bound). direction: world frame, from ea's hull towards eb's.
+  static S hullDistance(const Tf<S>& ta, const Element& ea, const Tf<S>& tb, const Element& eb, S enough,
+                        fcl::Vector3d& direction)
   {
     const Eigen::Isometry3d pa = ta.template cast<double>(), pb = tb.template cast<double>();
     const double margin = 1024 * double(std::numeric_limits<S>::epsilon()) *
@@ -430,7 +459,9 @@ struct SelfCollision<S>::Impl
     const double shrink = ea.hull_radius + eb.hull_radius + margin;
     const fcl::Vector3d start = pa * ea.center.template cast<double>() - pb * eb.center.template cast<double>();
     const double bound =
-        triangle_shape::hullsLowerBound(ea.hull_points, pa, eb.hull_points, pb, start, double(enough) + shrink) - shrink;
+        triangle_shape::hullsLowerBound(ea.hull_points, pa, eb.hull_points, pb, start, double(enough) + shrink,
+                                        &direction) -
+        shrink;
     // Rounded down to S.
     const S rounded = S(bound);
     return double(rounded) > bound ? std::nextafter(rounded, -std::numeric_limits<S>::infinity()) : rounded;
@@ -492,21 +523,25 @@ struct SelfCollision<S>::Impl
 
   /// A candidate of the minimum-distance search: a link pair, or one element pair of it, with a lower bound on
   /// its distance and the tightest bound computed so far.
-  enum class Stage { kLinkSpheres, kLinkVolumes, kElementSpheres, kElementVolumes, kElementHulls };
+  enum class Stage { kLinkSpheres, kLinkVolumes, kElementSpheres, kElementHulls };
   struct Candidate
   {
     S bound;
     int pair;  ///< index in pairs
     int element_a, element_b;
     Stage stage;
+    /// After kElementHulls: the hulls' gap direction (world frame, from element_a towards element_b), which lets
+    /// the measurement skip the tree descent (detail::distanceAlong).
+    fcl::Vector3d direction = fcl::Vector3d::Zero();
   };
 
   /// Minimum distance over the pair list of a collision-free configuration, best first: every link pair waits
   /// with its spheres' gap, a lower bound on its distance. The candidate of smallest bound is tightened one
-  /// stage at a time (with RS the links' volumes, then per element pair the elements' balls, with RS their
-  /// volumes, and their hulls' distance, which is the elements' own for convex ones) and measured exactly once no
-  /// bound is left to tighten; each measurement starts at the best distance
-  /// so far, so its traversal prunes what cannot beat it. Once the smallest bound waiting reaches the best
+  /// stage at a time (with RS the links' volumes, then per element pair the elements' balls and their hulls'
+  /// distance, which is the elements' own for convex ones) and measured exactly once no bound is left to
+  /// tighten; each measurement starts at the best distance so far, so it skips what cannot beat it, and with RS
+  /// it measures along the hulls' gap direction (detail::distanceAlong) where that leaves few triangles.
+  /// (An RS volume bound per element pair as well cost more than the hull bounds it saved.) Once the smallest bound waiting reaches the best
   /// distance, no candidate can lower it. Only pairs whose bounds stay below the answer are measured, nearest
   /// first, so the nearest pairs set a small minimum early. The order depends on the configuration only, so the
   /// result does too.
@@ -548,7 +583,7 @@ struct SelfCollision<S>::Impl
         else if (c.stage == Stage::kLinkVolumes)
         {
           // A link of one element: the link's bounds are its element's.
-          c.stage = Stage::kElementVolumes;
+          c.stage = Stage::kElementSpheres;
           if (la.elements.size() == 1 && lb.elements.size() == 1) continue;
           for (int i = 0; i < int(la.elements.size()); ++i)
             for (int j = 0; j < int(lb.elements.size()); ++j)
@@ -562,24 +597,21 @@ struct SelfCollision<S>::Impl
         }
         else if (c.stage == Stage::kElementSpheres)
         {
-          c.stage = Stage::kElementVolumes;
-          if (bv == BVType::kRS)
-            c.bound = std::max(c.bound, boundsDistance(ta, la.elements[c.element_a].bound, tb,
-                                                       lb.elements[c.element_b].bound));
-        }
-        else if (c.stage == Stage::kElementVolumes)
-        {
           c.stage = Stage::kElementHulls;
-          c.bound = std::max(c.bound, hullDistance(ta, la.elements[c.element_a], tb, lb.elements[c.element_b], best));
+          c.bound = std::max(c.bound, hullDistance(ta, la.elements[c.element_a], tb, lb.elements[c.element_b], best,
+                                                   c.direction));
         }
         else
         {
           const Element& ea = la.elements[c.element_a];
           const Element& eb = lb.elements[c.element_b];
+          const Tf<S> pose_a = ta * ea.origin, pose_b = tb * eb.origin;
           fcl::DistanceResult<S> result;
           result.min_distance = best;
-          best = std::min(best, fcl_rs::distance(ea.geometry, ta * ea.origin, eb.geometry, tb * eb.origin, request,
-                                                 result));
+          if (bv != BVType::kRS || !ea.convex || !eb.convex ||
+              !detail::distanceAlong(ea.geometry, pose_a, eb.geometry, pose_b, c.direction, request, result))
+            fcl_rs::distance(ea.geometry, pose_a, eb.geometry, pose_b, request, result);
+          best = std::min(best, result.min_distance);
           done = true;
         }
       }
@@ -648,13 +680,13 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       typename Impl::Element mesh;
       mesh.center = mesh_centre.cast<S>();
       mesh.radius = S(mesh_radius * (1 + 1e-6));
-      mesh.bound = link.bound;
       // Distinct vertices only (a mesh file may repeat each vertex per triangle): GJK scans them all per step.
       for (const auto& v : meshes[i].vertices) mesh.hull_points.push_back(v.template cast<double>());
       std::sort(mesh.hull_points.begin(), mesh.hull_points.end(), [](const fcl::Vector3d& x, const fcl::Vector3d& y) {
         return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
       });
       mesh.hull_points.erase(std::unique(mesh.hull_points.begin(), mesh.hull_points.end()), mesh.hull_points.end());
+      mesh.convex = convexPosition(src.mesh, mesh.hull_points);
       link.elements.push_back(mesh);  // its geometry, the tree, is set below
     }
     for (std::size_t k = 0; k < link.shapes.size(); ++k)
@@ -667,7 +699,6 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       shape.origin = link.shapes[k].origin;
       shape.center = link.shapes[k].origin.translation();
       shape.radius = S(primitiveRadius(src.primitives[k]) * (1 + 1e-6));
-      shape.bound = placed;
       for (const fcl::Vector3d& corner : primitiveHullPoints(src.primitives[k], shape.hull_radius))
         shape.hull_points.push_back(src.primitives[k].origin * corner);
       link.elements.push_back(shape);
