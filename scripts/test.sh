@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds and runs every test (CTest), then the same tests under the sanitizers and the fuzz targets for a
-# bounded time. Sets everything up first. CI runs exactly this on 2 cores (33.9 minutes in a clean-clone run at
-# 7197e05 on a quiet machine, the budget is 35: docs/robustness.md); each stage prints its start and minutes elapsed.
+# bounded time. Sets everything up first. CI runs exactly this on 2 cores (32.9 minutes in a clean-clone run at
+# 97439ba on a quiet machine, the budget is 35: docs/robustness.md); each stage prints its start and minutes elapsed.
 # Usage: scripts/test.sh [--quick]
 #   --quick  only the Release build and CTest (build/), a few minutes
 #   Without --quick, then, each in its own build directory:
