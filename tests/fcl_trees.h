@@ -25,24 +25,19 @@ using KDOP24 = fcl::KDOP<S, 24>;
 }  // namespace test
 }  // namespace fcl_rs
 
+// KIND one of FCL's tree types: its BVHModel members and buildModel.
+#define FCL_RS_TEST_FCL_TREE(KIND, BV) FCL_RS_BVH_MODEL_MEMBERS(KIND, BV) FCL_RS_BUILD_MODEL_FUNCTIONS(KIND, BV)
+
 // KIND each of FCL's tree types for float and double.
 #define FCL_RS_TEST_FCL_TREES(KIND, S)                                                                              \
-  FCL_RS_BVH_MODEL_MEMBERS(KIND, fcl::AABB<S>)                                                                      \
-  FCL_RS_BVH_MODEL_MEMBERS(KIND, fcl::OBB<S>)                                                                       \
-  FCL_RS_BVH_MODEL_MEMBERS(KIND, fcl::RSS<S>)                                                                       \
-  FCL_RS_BVH_MODEL_MEMBERS(KIND, fcl::OBBRSS<S>)                                                                    \
-  FCL_RS_BVH_MODEL_MEMBERS(KIND, fcl::kIOS<S>)                                                                      \
-  FCL_RS_BVH_MODEL_MEMBERS(KIND, fcl_rs::test::KDOP16<S>)                                                           \
-  FCL_RS_BVH_MODEL_MEMBERS(KIND, fcl_rs::test::KDOP18<S>)                                                           \
-  FCL_RS_BVH_MODEL_MEMBERS(KIND, fcl_rs::test::KDOP24<S>)                                                           \
-  FCL_RS_BUILD_MODEL_FUNCTIONS(KIND, fcl::AABB<S>)                                                                  \
-  FCL_RS_BUILD_MODEL_FUNCTIONS(KIND, fcl::OBB<S>)                                                                   \
-  FCL_RS_BUILD_MODEL_FUNCTIONS(KIND, fcl::RSS<S>)                                                                   \
-  FCL_RS_BUILD_MODEL_FUNCTIONS(KIND, fcl::OBBRSS<S>)                                                                \
-  FCL_RS_BUILD_MODEL_FUNCTIONS(KIND, fcl::kIOS<S>)                                                                  \
-  FCL_RS_BUILD_MODEL_FUNCTIONS(KIND, fcl_rs::test::KDOP16<S>)                                                       \
-  FCL_RS_BUILD_MODEL_FUNCTIONS(KIND, fcl_rs::test::KDOP18<S>)                                                       \
-  FCL_RS_BUILD_MODEL_FUNCTIONS(KIND, fcl_rs::test::KDOP24<S>)
+  FCL_RS_TEST_FCL_TREE(KIND, fcl::AABB<S>)                                                                          \
+  FCL_RS_TEST_FCL_TREE(KIND, fcl::OBB<S>)                                                                           \
+  FCL_RS_TEST_FCL_TREE(KIND, fcl::RSS<S>)                                                                           \
+  FCL_RS_TEST_FCL_TREE(KIND, fcl::OBBRSS<S>)                                                                        \
+  FCL_RS_TEST_FCL_TREE(KIND, fcl::kIOS<S>)                                                                          \
+  FCL_RS_TEST_FCL_TREE(KIND, fcl_rs::test::KDOP16<S>)                                                               \
+  FCL_RS_TEST_FCL_TREE(KIND, fcl_rs::test::KDOP18<S>)                                                               \
+  FCL_RS_TEST_FCL_TREE(KIND, fcl_rs::test::KDOP24<S>)
 
 FCL_RS_TEST_FCL_TREES(extern template, float)
 FCL_RS_TEST_FCL_TREES(extern template, double)
