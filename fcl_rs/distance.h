@@ -21,7 +21,9 @@ namespace fcl_rs {
 /// and coaxial pairs, GJKSolver_indep's depths of curved shapes are far off): in closed form for a sphere or capsule
 /// against a sphere or capsule and for a sphere against a box, cylinder or cone, else by libccd's GJK and EPA with
 /// EPA bounded to 1000 expansions (milliseconds); a depth then within distance_tolerance, or 1e-3 relative where EPA
-/// converges slowly, else std::runtime_error naming both bounds (src/shape_signed_distance.h).
+/// converges slowly, else std::runtime_error naming both bounds; where EPA's polytope gets a zero-area face (built
+/// without NDEBUG, FCL throws fcl::detail::FailedAtThisConfiguration) the pair is measured again in a turned frame
+/// (src/shape_signed_distance.h).
 ///
 /// As in FCL: a shape given first is swapped behind the mesh, so result.o1, b1 and nearest_points[0]
 /// then refer to the mesh; nearest points are in the world frame; a colliding pair reports what FCL's

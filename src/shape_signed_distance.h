@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -39,6 +40,7 @@
 #include <fcl/geometry/shape/ellipsoid.h>
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/detail/convexity_based_algorithm/gjk_libccd.h>
+#include <fcl/narrowphase/detail/failed_at_this_configuration.h>
 
 #include "fcl_rs/detail/relative_poses.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
@@ -397,25 +399,46 @@ std::optional<Signed> signedDistance(const fcl::CollisionGeometry<S>& o1, const 
   }
   if (!signed_distance)
   {
-    CcdShape shape1, shape2;
-    if (!asCcdShape(o1, shifted(tf1, tf1.translation()), shape1) ||
-        !asCcdShape(o2, shifted(tf2, tf1.translation()), shape2))
-      return std::nullopt;
-    Signed bounded{0, Vec::Zero(), Vec::Zero()};
     const double known_depth =
         inscribedBall(o1) + inscribedBall(o2) - (tf2.translation() - tf1.translation()).template cast<double>().norm();
-    try
+    const auto failure = [&](const char* what) {
+      return std::runtime_error(std::string(api) + ": signed distance of node types " +
+                                std::to_string(int(o1.getNodeType())) + " and " +
+                                std::to_string(int(o2.getNodeType())) + " (fcl::NODE_TYPE): " + what);
+    };
+    // Built without NDEBUG (the sanitizer stage, a Debug build), FCL's EPA throws FailedAtThisConfiguration when its
+    // polytope gets a zero-area face (parallel cones one beside the other, say); with NDEBUG it goes on. Such a face
+    // comes from the coordinates, the depth does not: the pair is measured again with both shapes turned by the same
+    // rotation, and the nearest points turned back.
+    const Eigen::Matrix3d turns[] = {
+        Eigen::Matrix3d::Identity(), Eigen::AngleAxisd(1, Vec(1, 2, 3).normalized()).toRotationMatrix(),
+        Eigen::AngleAxisd(2, Vec(-3, 1, 2).normalized()).toRotationMatrix()};
+    for (std::size_t k = 0; !signed_distance; ++k)
     {
-      bounded.distance =
-          boundedCcdSignedDistance(shape1, shape2, max_iterations, tolerance, known_depth, bounded.p1, bounded.p2);
+      fcl::Transform3<S> turn_s = fcl::Transform3<S>::Identity();
+      turn_s.linear() = turns[k].template cast<S>();
+      CcdShape shape1, shape2;
+      if (!asCcdShape(o1, fcl::Transform3<S>(turn_s * shifted(tf1, tf1.translation())), shape1) ||
+          !asCcdShape(o2, fcl::Transform3<S>(turn_s * shifted(tf2, tf1.translation())), shape2))
+        return std::nullopt;
+      Signed bounded{0, Vec::Zero(), Vec::Zero()};
+      try
+      {
+        bounded.distance =
+            boundedCcdSignedDistance(shape1, shape2, max_iterations, tolerance, known_depth, bounded.p1, bounded.p2);
+      }
+      catch (const std::runtime_error& e)
+      {
+        throw failure(e.what());
+      }
+      catch (const fcl::detail::FailedAtThisConfiguration& e)
+      {
+        if (k + 1 == std::size(turns)) throw failure(e.what());
+        continue;
+      }
+      const Eigen::Matrix3d back = turn_s.linear().transpose().template cast<double>();
+      signed_distance = Signed{bounded.distance, back * bounded.p1, back * bounded.p2};
     }
-    catch (const std::runtime_error& e)
-    {
-      throw std::runtime_error(std::string(api) + ": signed distance of node types " +
-                               std::to_string(int(o1.getNodeType())) + " and " + std::to_string(int(o2.getNodeType())) +
-                               " (fcl::NODE_TYPE): " + e.what());
-    }
-    signed_distance = bounded;
   }
   signed_distance->p1 += origin;
   signed_distance->p2 += origin;

@@ -1052,6 +1052,39 @@ TYPED_TEST(DistanceShapeSigned, ConcentricAndCoaxialPairsMatchClosedForms)
   EXPECT_NEAR((result.nearest_points[0] - result.nearest_points[1]).norm(), S(0.75), tol);
 }
 
+/// Two parallel cones side by side (found by fuzz_api): libccd's EPA meets a zero-area face, and FCL's check for one
+/// (only without NDEBUG: the sanitizer stage) throws FailedAtThisConfiguration. The pair is measured in a turned frame
+/// instead; the depth is what the same pair turned by another rotation measures, and moving o1 by p2 - p1 makes the
+/// cones touch.
+TYPED_TEST(DistanceShapeSigned, DegenerateEpaFaceIsMeasuredInATurnedFrame)
+{
+  using S = TypeParam;
+  const fcl::Cone<S> cone(S(0.2), S(0.5));
+  fcl::Transform3<S> tf1 = fcl::Transform3<S>::Identity();
+  tf1.linear() << 0, 0, 1, 1, 0, 0, 0, 1, 0;
+  fcl::Transform3<S> tf2 = tf1;
+  tf1.translation() << S(-0.00390625), S(-0.0015716552734375), S(-0.07666015625);
+  tf2.translation() << S(0.244140625), S(-0.07080078125), S(-0.07666015625);
+  fcl::DistanceRequest<S> request(true, /*enable_signed_distance=*/true);
+  fcl::DistanceResult<S> result;
+  fcl_rs::distance<S>(&cone, tf1, &cone, tf2, request, result);
+  EXPECT_LT(result.min_distance, 0);
+
+  fcl::Transform3<S> turn = fcl::Transform3<S>::Identity();
+  turn.linear() = fcl::AngleAxis<S>(S(0.4), fcl::Vector3<S>(2, -1, 1).normalized()).toRotationMatrix();
+  fcl::DistanceResult<S> turned;
+  fcl_rs::distance<S>(&cone, fcl::Transform3<S>(turn * tf1), &cone, fcl::Transform3<S>(turn * tf2), request, turned);
+  const S tol = std::is_same_v<S, float> ? S(2e-5) : S(2e-6);  // distance_tolerance 1e-6 and float rounding
+  EXPECT_NEAR(result.min_distance, turned.min_distance, tol);
+
+  fcl::Transform3<S> touching = tf1;
+  touching.translation() += result.nearest_points[1] - result.nearest_points[0];
+  fcl::DistanceResult<S> moved;
+  fcl_rs::distance<S>(&cone, touching, &cone, tf2, request, moved);
+  EXPECT_NEAR(moved.min_distance, 0, S(1e-4)) << "nearest points " << result.nearest_points[0].transpose() << " and "
+                                              << result.nearest_points[1].transpose();
+}
+
 template <typename S>
 class DistanceDispatch : public ::testing::Test {};
 TYPED_TEST_SUITE(DistanceDispatch, fcl_rs::test::Scalars);
