@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs the Debian packages a job needs (only those missing; sudo when not root), then configures and builds
 # what it runs (Release, -j2, Ninja), printing each step on stdout.
-# Usage: scripts/setup.sh [--for JOB] [--packages-only] [BUILD_DIR] [-DOPTION=VALUE...]
+# Usage: scripts/setup.sh [--for JOB] [--packages-only] [--no-unit-tests] [BUILD_DIR] [-DOPTION=VALUE...]
 #   --for all      (default) every package; BUILD_DIR (default build) configured with every part on, all built
+#   --no-unit-tests  with --for all: every part but the GoogleTest executables (scripts/test.sh builds those in its
+#                  sanitized tree)
 #   --for compare  the core's packages; a new BUILD_DIR gets the core and fcl_rs_compare only (an existing one keeps
 #                  its options); builds the target fcl_rs_compare alone (scripts/compare.sh)
 #   --for python   the module's packages; BUILD_DIR gets the robot, batch and Python parts on (the rest as they
@@ -10,12 +12,13 @@
 #   --packages-only  install the packages, configure and build nothing
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-job=all packages_only=0 build="$root/build" cmake_args=()
+job=all packages_only=0 unit_tests=ON build="$root/build" cmake_args=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --for) job="$2"; shift ;;
     --for=*) job="${1#--for=}" ;;
     --packages-only) packages_only=1 ;;
+    --no-unit-tests) unit_tests=OFF ;;
     -D*) cmake_args+=("$1") ;;
     *) build="$1" ;;
   esac
@@ -74,7 +77,8 @@ else
 fi
 [ "$job" = all ] && options=(-DBUILD_TESTING=ON -DFCL_RS_BUILD_HULL=ON -DFCL_RS_BUILD_EXPORT=ON
   -DFCL_RS_BUILD_ROBOT=ON -DFCL_RS_BUILD_BATCH=ON -DFCL_RS_BUILD_TOOLS=ON -DFCL_RS_BUILD_EXAMPLES=ON
-  -DFCL_RS_BUILD_BENCHMARKS=ON -DFCL_RS_BUILD_EXPERIMENTS=ON -DFCL_RS_BUILD_PYTHON=ON)
+  -DFCL_RS_BUILD_BENCHMARKS=ON -DFCL_RS_BUILD_EXPERIMENTS=ON -DFCL_RS_BUILD_PYTHON=ON
+  -DFCL_RS_BUILD_UNIT_TESTS=$unit_tests)
 [ "$job" = python ] && options+=(-DFCL_RS_BUILD_PYTHON=ON)
 # An existing build directory already holding every value asked for is not configured again (the build step
 # re-runs CMake itself when a CMakeLists.txt changed).
