@@ -138,17 +138,16 @@ std::size_t meshOcTree(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<
 #endif
 
 template <typename S, typename Solver>
-std::size_t meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
+std::size_t meshShapeDispatch(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh,
                               const fcl::CollisionGeometry<S>* shape, const fcl::Transform3<S>& tf_shape,
                               const Solver* solver, const fcl::CollisionRequest<S>& request,
                               fcl::CollisionResult<S>& result)
 {
-  const auto& model = static_cast<const fcl::BVHModel<RS<S>>&>(*mesh);
   return detail::withShape(
       *shape,
       [&](const auto& geometry) { return meshShape(model, tf_mesh, geometry, tf_shape, solver, request, result); },
       [&]() -> std::size_t {
-        detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(),
+        detail::unsupportedPair(kApi, model.getNodeType(), shape->getNodeType(),
                                 "FCL has no mesh test for this shape");
       });
 }
@@ -207,20 +206,15 @@ std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3
   if (m1) detail::requireBuiltTriangles(kApi, *m1);
   if (m2) detail::requireBuiltTriangles(kApi, *m2);
   if (m1 && m2) return meshMesh(*m1, tf1, *m2, tf2, request, result);
-  // As in fcl::collide, a shape given first is swapped behind the mesh.
-  const bool mesh_first = m1 != nullptr;
-  const auto* mesh = mesh_first ? o1 : o2;
-  const auto* other = mesh_first ? o2 : o1;
-  const auto& tf_mesh = mesh_first ? tf1 : tf2;
-  const auto& tf_other = mesh_first ? tf2 : tf1;
+  const auto pair = detail::meshBeforeOther(o1, m1, tf1, o2, m2, tf2);
 #if FCL_HAVE_OCTOMAP
-  if (other->getNodeType() == fcl::GEOM_OCTREE)
-    return meshOcTree(mesh_first ? *m1 : *m2, tf_mesh, other, tf_other, mesh_first, solver, request, result);
+  if (pair.other->getNodeType() == fcl::GEOM_OCTREE)
+    return meshOcTree(pair.mesh, pair.tf_mesh, pair.other, pair.tf_other, pair.mesh_first, solver, request, result);
 #endif
-  if (other->getObjectType() != fcl::OT_GEOM)
+  if (pair.other->getObjectType() != fcl::OT_GEOM)
     detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
                             "an RS mesh collides with RS meshes, octrees and primitive shapes only");
-  return meshShapeDispatch(mesh, tf_mesh, other, tf_other, solver, request, result);
+  return meshShapeDispatch(pair.mesh, pair.tf_mesh, pair.other, pair.tf_other, solver, request, result);
 }
 
 }  // namespace

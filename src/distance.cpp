@@ -74,16 +74,15 @@ S meshShape(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh
 }
 
 template <typename S, typename Solver>
-S meshShapeDispatch(const fcl::CollisionGeometry<S>* mesh, const fcl::Transform3<S>& tf_mesh,
+S meshShapeDispatch(const fcl::BVHModel<RS<S>>& model, const fcl::Transform3<S>& tf_mesh,
                     const fcl::CollisionGeometry<S>* shape, const fcl::Transform3<S>& tf_shape, const Solver* solver,
                     const fcl::DistanceRequest<S>& request, fcl::DistanceResult<S>& result)
 {
-  const auto& model = static_cast<const fcl::BVHModel<RS<S>>&>(*mesh);
   return detail::withShape(
       *shape,
       [&](const auto& geometry) -> S { return meshShape(model, tf_mesh, geometry, tf_shape, solver, request, result); },
       [&]() -> S {
-        detail::unsupportedPair(kApi, mesh->getNodeType(), shape->getNodeType(),
+        detail::unsupportedPair(kApi, model.getNodeType(), shape->getNodeType(),
                                 "FCL has no mesh distance for this shape");
       });
 }
@@ -158,29 +157,25 @@ S distanceRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
     res = meshMesh(*m1, tf1, *m2, tf2, request, result);
   else
   {
-    // As in fcl::distance, a shape given first is swapped behind the mesh (and the result is not swapped back).
-    const bool mesh_first = m1 != nullptr;
-    const auto* mesh = mesh_first ? o1 : o2;
-    const auto* other = mesh_first ? o2 : o1;
-    const auto& tf_mesh = mesh_first ? tf1 : tf2;
-    const auto& tf_other = mesh_first ? tf2 : tf1;
+    // The result is not swapped back, as in fcl::distance.
+    const auto pair = detail::meshBeforeOther(o1, m1, tf1, o2, m2, tf2);
 #if FCL_HAVE_OCTOMAP
-    if (other->getNodeType() == fcl::GEOM_OCTREE)
+    if (pair.other->getNodeType() == fcl::GEOM_OCTREE)
     {
       // fcl::detail::OcTreeBVHDistance and BVHOcTreeDistance with the RS traversal: the result names the octree
       // first in either order, as FCL's does.
       if (!request.isSatisfied(result))
-        distanceOcTreeMesh(static_cast<const fcl::OcTree<S>&>(*other), tf_other, mesh_first ? *m1 : *m2, tf_mesh,
+        distanceOcTreeMesh(static_cast<const fcl::OcTree<S>&>(*pair.other), pair.tf_other, pair.mesh, pair.tf_mesh,
                            *solver, request, result);
       res = result.min_distance;
     }
     else
 #endif
     {
-      if (other->getObjectType() != fcl::OT_GEOM)
+      if (pair.other->getObjectType() != fcl::OT_GEOM)
         detail::unsupportedPair(kApi, o1->getNodeType(), o2->getNodeType(),
                                 "an RS mesh measures distance to RS meshes, octrees and primitive shapes only");
-      res = meshShapeDispatch(mesh, tf_mesh, other, tf_other, solver, request, result);
+      res = meshShapeDispatch(pair.mesh, pair.tf_mesh, pair.other, pair.tf_other, solver, request, result);
     }
   }
   // Only when this query made the distance negative: a result shared by several queries (the broadphase
@@ -278,13 +273,13 @@ bool distanceAlong(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>
     return true;
   }
   if (!m1 && !m2) return false;
-  // As distanceRS: the shape goes behind the mesh; the direction then points from the mesh to the shape.
-  const bool mesh_first = m1 != nullptr;
-  const auto& mesh = mesh_first ? *m1 : *m2;
-  const auto* shape = mesh_first ? o2 : o1;
-  const auto& tf_mesh = mesh_first ? tf1 : tf2;
-  const auto& tf_shape = mesh_first ? tf2 : tf1;
-  const Eigen::Vector3d towards_shape = mesh_first ? direction : Eigen::Vector3d(-direction);
+  // The direction then points from the mesh to the shape.
+  const auto pair = detail::meshBeforeOther(o1, m1, tf1, o2, m2, tf2);
+  const auto& mesh = pair.mesh;
+  const auto* shape = pair.other;
+  const auto& tf_mesh = pair.tf_mesh;
+  const auto& tf_shape = pair.tf_other;
+  const Eigen::Vector3d towards_shape = pair.mesh_first ? direction : Eigen::Vector3d(-direction);
   return withShape(
       *shape,
       [&](const auto& geometry) -> bool {

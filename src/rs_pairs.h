@@ -39,6 +39,28 @@ void requireBuiltTriangles(const char* api, const fcl::BVHModel<RS<S>>& m)
     throw std::invalid_argument(std::string(api) + ": an RS model's tree is not built (call endModel() first)");
 }
 
+/// An RS mesh and the geometry it meets, in the order the RS traversals take them: as in fcl::collide and
+/// fcl::distance, a shape or octree given first goes behind the mesh.
+template <typename S>
+struct MeshAndOther
+{
+  const fcl::BVHModel<RS<S>>& mesh;
+  const fcl::Transform3<S>& tf_mesh;
+  const fcl::CollisionGeometry<S>* other;
+  const fcl::Transform3<S>& tf_other;
+  bool mesh_first;  ///< whether the caller gave the mesh first
+};
+
+/// m1 and m2 are o1 and o2 as RS meshes (asRSMesh); at least one is not null. With two meshes, the first leads.
+template <typename S>
+MeshAndOther<S> meshBeforeOther(const fcl::CollisionGeometry<S>* o1, const fcl::BVHModel<RS<S>>* m1,
+                                const fcl::Transform3<S>& tf1, const fcl::CollisionGeometry<S>* o2,
+                                const fcl::BVHModel<RS<S>>* m2, const fcl::Transform3<S>& tf2)
+{
+  if (m1) return {*m1, tf1, o2, tf2, true};
+  return {*m2, tf2, o1, tf1, false};
+}
+
 /// A TriangleP as a one-triangle RS mesh in the triangle's own frame: mesh-TriangleP pairs run the mesh-mesh
 /// triangle tests (FCL's libccd solver has no TriangleP support function, and FCL no mesh-TriangleP entry).
 template <typename S>
