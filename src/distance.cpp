@@ -275,13 +275,9 @@ bool distanceAlong(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>
   if (!m1 && !m2) return false;
   // The direction then points from the mesh to the shape.
   const auto pair = detail::meshBeforeOther(o1, m1, tf1, o2, m2, tf2);
-  const auto& mesh = pair.mesh;
-  const auto* shape = pair.other;
-  const auto& tf_mesh = pair.tf_mesh;
-  const auto& tf_shape = pair.tf_other;
   const Eigen::Vector3d towards_shape = pair.mesh_first ? direction : Eigen::Vector3d(-direction);
   return withShape(
-      *shape,
+      *pair.other,
       [&](const auto& geometry) -> bool {
         using Shape = std::decay_t<decltype(geometry)>;
         if constexpr (std::is_same_v<Shape, fcl::Box<S>> || std::is_same_v<Shape, fcl::Sphere<S>> ||
@@ -290,9 +286,9 @@ bool distanceAlong(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>
           if (request.isSatisfied(result)) return true;
           fcl::detail::GJKSolver_libccd<S> solver;  // the node asks for one; the RS leaves do not use it
           MeshShapeDistanceTraversalNodeRS<Shape, fcl::detail::GJKSolver_libccd<S>> node;
-          initialize(node, mesh, tf_mesh, geometry, tf_shape, &solver, request, result);
-          return fcl_rs::distanceAlong(node, Eigen::Vector3d(tf_shape.linear().template cast<double>().transpose() *
-                                                     towards_shape));
+          initialize(node, pair.mesh, pair.tf_mesh, geometry, pair.tf_other, &solver, request, result);
+          return fcl_rs::distanceAlong(
+              node, Eigen::Vector3d(pair.tf_other.linear().template cast<double>().transpose() * towards_shape));
         }
         else
           return false;
