@@ -23,6 +23,7 @@
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/broadphase.h"
 #include "fcl_rs/continuous_collision.h"
+#include "fcl_rs/solid.h"
 #include "fcl_rs/version.h"
 
 #endif
