@@ -1302,3 +1302,335 @@ TYPED_TEST(CollideStats, CachedNodeFramesTestWhatFclsRecursionTests)
 }
 
 }  // namespace
+
+// Solid meshes (fcl_rs/solid.h): closedness, point-in-mesh against a winding-number brute force, collideSolids
+// against all triangle pairs plus a brute-force containment, and the vertex penetration depth against a brute force
+// of its definition. Here rather than in a test executable of their own: the test build takes no new translation
+// unit (CI's budget).
+namespace {
+
+using LD = long double;
+using VL = Eigen::Matrix<LD, 3, 1>;
+
+template <typename S>
+std::shared_ptr<const fcl::BVHModel<fcl_rs::RS<S>>> solidModel(const fcl_rs::TriangleMesh<S>& mesh)
+{
+  return fcl_rs::buildModel<fcl_rs::RS<S>>(mesh);
+}
+
+/// World-frame triangles in long double (vertices mapped by tf as S computes it, then widened).
+template <typename S>
+std::vector<std::array<VL, 3>> worldTriangles(const fcl_rs::TriangleMesh<S>& mesh, const fcl::Transform3<S>& tf)
+{
+  std::vector<std::array<VL, 3>> out;
+  for (const auto& t : mesh.triangles)
+    out.push_back({(tf * mesh.vertices[t[0]]).template cast<LD>(), (tf * mesh.vertices[t[1]]).template cast<LD>(),
+                   (tf * mesh.vertices[t[2]]).template cast<LD>()});
+  return out;
+}
+
+/// Brute-force inside test: the winding number (sum of signed solid angles, Van Oosterom and Strackee) is odd.
+bool bruteInside(const std::vector<std::array<VL, 3>>& triangles, const VL& p)
+{
+  LD total = 0;
+  for (const auto& t : triangles)
+  {
+    const VL a = t[0] - p, b = t[1] - p, c = t[2] - p;
+    const LD la = a.norm(), lb = b.norm(), lc = c.norm();
+    total += 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
+  }
+  const long winding = std::lround(total / (4 * LD(M_PI)));
+  return winding % 2 != 0;
+}
+
+/// Brute-force point-triangle distance: the plane's foot if it lies inside the triangle, else the nearest edge.
+LD bruteTriangleDistance(const VL& p, const std::array<VL, 3>& t)
+{
+  const auto segment = [&p](const VL& a, const VL& b) {
+    const VL ab = b - a;
+    const LD len2 = ab.squaredNorm();
+    const LD s = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, LD(0), LD(1)) : LD(0);
+    return (a + s * ab - p).norm();
+  };
+  LD best = std::min({segment(t[0], t[1]), segment(t[1], t[2]), segment(t[2], t[0])});
+  const VL n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const LD n2 = n.squaredNorm();
+  if (n2 > 0)
+  {
+    const VL foot = p - n * ((p - t[0]).dot(n) / n2);
+    bool inside = true;
+    for (int i = 0; i < 3; ++i)
+      inside = inside && (t[(i + 1) % 3] - t[i]).cross(foot - t[i]).dot(n) >= 0;
+    if (inside) best = std::min(best, (foot - p).norm());
+  }
+  return best;
+}
+
+LD bruteSurfaceDistance(const std::vector<std::array<VL, 3>>& triangles, const VL& p)
+{
+  LD best = std::numeric_limits<LD>::infinity();
+  for (const auto& t : triangles) best = std::min(best, bruteTriangleDistance(p, t));
+  return best;
+}
+
+/// The vertex penetration depth by its definition: every vertex of each mesh, inside the other (brute force), its
+/// distance to the other's surface (brute force), the largest.
+LD bruteVertexDepth(const std::vector<std::array<VL, 3>>& a, const std::vector<std::array<VL, 3>>& b)
+{
+  LD depth = 0;
+  for (const auto& [mesh, other] : {std::make_pair(&a, &b), std::make_pair(&b, &a)})
+    for (const auto& t : *mesh)
+      for (const VL& v : t)
+        if (bruteInside(*other, v)) depth = std::max(depth, bruteSurfaceDistance(*other, v));
+  return depth;
+}
+
+/// Whether any triangle pair of the world-frame meshes intersects, decided exactly.
+bool bruteSurfacesMeet(const std::vector<std::array<VL, 3>>& a, const std::vector<std::array<VL, 3>>& b)
+{
+  for (const auto& s : a)
+    for (const auto& t : b)
+    {
+      fcl_rs::test::ExactTriangle x, y;
+      for (int i = 0; i < 3; ++i)
+      {
+        x[i] = s[i].cast<double>();
+        y[i] = t[i].cast<double>();
+      }
+      if (fcl_rs::test::exactlyIntersect(x, y)) return true;
+    }
+  return false;
+}
+
+template <typename S>
+fcl_rs::TriangleMesh<S> hollowBox()
+{
+  // A box with a box-shaped cavity: two components, both oriented outward (parity makes the cavity outside).
+  fcl_rs::TriangleMesh<S> outer = fcl_rs::makeBox<S>(2, 2, 2);
+  const fcl_rs::TriangleMesh<S> inner = fcl_rs::makeBox<S>(1, 1, 1);
+  const std::size_t offset = outer.vertices.size();
+  outer.vertices.insert(outer.vertices.end(), inner.vertices.begin(), inner.vertices.end());
+  for (const auto& t : inner.triangles) outer.triangles.emplace_back(t[0] + offset, t[1] + offset, t[2] + offset);
+  return outer;
+}
+
+template <typename S>
+class Solid : public ::testing::Test {};
+TYPED_TEST_SUITE(Solid, fcl_rs::test::Scalars);
+
+TYPED_TEST(Solid, ClosedMeshesAcceptedOpenOnesRejectedNamingTheEdge)
+{
+  using S = TypeParam;
+  for (const auto& mesh : {fcl_rs::makeBox<S>(1, 2, 3), fcl_rs::makeSphere<S>(1, 6, 8), fcl_rs::makeTorus<S>(1, S(0.3), 12, 8),
+                           fcl_rs::makeDiamond<S>(1, 1), fcl_rs::makeEllipsoid<S>(1, 2, 3, 5, 7), hollowBox<S>()})
+    EXPECT_NO_THROW(fcl_rs::SolidMesh<S>{solidModel(mesh)});
+  const auto rejected = [](const fcl_rs::TriangleMesh<S>& mesh) {
+    return fcl_rs::test::messageOf([&] { fcl_rs::SolidMesh<S>{solidModel(mesh)}; });
+  };
+  // makeBox's first triangle is (0, 2, 3); edge (0, 2) is the first bad edge in vertex order in each case below.
+  fcl_rs::TriangleMesh<S> open = fcl_rs::makeBox<S>(1, 1, 1);
+  open.triangles.erase(open.triangles.begin());
+  EXPECT_NE(rejected(open).find("edge (0, 2) is a boundary edge"), std::string::npos) << rejected(open);
+  fcl_rs::TriangleMesh<S> fin = fcl_rs::makeBox<S>(1, 1, 1);
+  fin.vertices.emplace_back(-2, -2, -2);
+  fin.triangles.emplace_back(0, 2, 8);
+  EXPECT_NE(rejected(fin).find("edge (0, 2) is shared by 3 triangles"), std::string::npos) << rejected(fin);
+  fcl_rs::TriangleMesh<S> flipped = fcl_rs::makeBox<S>(1, 1, 1);
+  flipped.triangles[0] = fcl::Triangle(0, 3, 2);
+  EXPECT_NE(rejected(flipped).find("edge (0, 2) has inconsistent orientation"), std::string::npos)
+      << rejected(flipped);
+  for (const auto& mesh : {open, fin, flipped})
+    EXPECT_THROW(fcl_rs::SolidMesh<S>{solidModel(mesh)}, std::invalid_argument);
+  EXPECT_THROW(fcl_rs::SolidMesh<S>{nullptr}, std::invalid_argument);
+  EXPECT_THROW(fcl_rs::SolidMesh<S>{std::make_shared<const fcl::BVHModel<fcl_rs::RS<S>>>()}, std::invalid_argument);
+}
+
+TYPED_TEST(Solid, ContainsMatchesWindingNumberParity)
+{
+  using S = TypeParam;
+  auto rng = fcl_rs::test::seededRng("solid/contains/" + scalarName<S>());
+  std::uniform_real_distribution<double> u(-1, 1);
+  const fcl::Transform3<S> identity = fcl::Transform3<S>::Identity();
+  // Each mesh with the half-widths of a box around it that the random points fill.
+  const std::tuple<const char*, fcl_rs::TriangleMesh<S>, fcl::Vector3<double>> meshes[] = {
+      {"box", fcl_rs::makeBox<S>(1, 1, 1), {0.8, 0.8, 0.8}},
+      {"sphere", fcl_rs::makeSphere<S>(1, 6, 8), {1.3, 1.3, 1.3}},
+      {"torus", fcl_rs::makeTorus<S>(1, S(0.3), 12, 8), {1.4, 1.4, 0.5}},
+      {"hollow box", hollowBox<S>(), {1.3, 1.3, 1.3}}};
+  for (const auto& [name, mesh, half] : meshes)
+  {
+    SCOPED_TRACE(name);
+    const fcl_rs::SolidMesh<S> solid(solidModel(mesh));
+    const auto triangles = worldTriangles(mesh, identity);
+    // Uniform points around the mesh, far points, and points whose x ray runs along a box edge or through a face's
+    // diagonal (y = +-z, x faces split along a diagonal), which the first direction cannot decide.
+    std::vector<fcl::Vector3<S>> points;
+    for (int i = 0; i < 300; ++i) points.emplace_back(S(half.x() * u(rng)), S(half.y() * u(rng)), S(half.z() * u(rng)));
+    for (int i = 0; i < 20; ++i) points.emplace_back(S(1000 * u(rng)), S(1000 * u(rng)), S(1000 * u(rng)));
+    for (int i = 0; i < 40; ++i)
+    {
+      const S y = S(0.5 * u(rng)), s = i % 2 ? S(1) : S(-1);
+      points.emplace_back(S(2 * u(rng)), y, s * y);
+      points.emplace_back(S(2 * u(rng)), S(0.5) * s, S(i % 4 < 2 ? 0.5 : -0.5));
+    }
+    int inside = 0, compared = 0;
+    for (const fcl::Vector3<S>& p : points)
+    {
+      const VL pl = p.template cast<LD>();
+      const LD dist = bruteSurfaceDistance(triangles, pl);
+      const fcl_rs::SolidSide side = solid.classify(p);
+      // Within rounding of the surface either answer is right; beyond it classify must decide, and correctly.
+      if (dist <= 64 * std::numeric_limits<S>::epsilon() * (1 + p.template lpNorm<Eigen::Infinity>()))
+      {
+        EXPECT_TRUE(solid.contains(p) == (side != fcl_rs::SolidSide::kOutside));
+        continue;
+      }
+      ++compared;
+      const bool expected = bruteInside(triangles, pl);
+      inside += expected;
+      EXPECT_NE(side, fcl_rs::SolidSide::kOnSurface) << "point " << p.transpose() << " at distance " << double(dist);
+      EXPECT_EQ(solid.contains(p), expected) << "point " << p.transpose();
+    }
+    EXPECT_GT(inside, 20);
+    EXPECT_GT(compared - inside, 20);
+  }
+  // On the surface: a box's vertex and a point inside a face.
+  const fcl_rs::SolidMesh<S> box(solidModel(fcl_rs::makeBox<S>(1, 1, 1)));
+  EXPECT_EQ(box.classify(fcl::Vector3<S>(S(0.5), S(0.5), S(0.5))), fcl_rs::SolidSide::kOnSurface);
+  EXPECT_EQ(box.classify(fcl::Vector3<S>(S(0.5), S(0.1), S(0.2))), fcl_rs::SolidSide::kOnSurface);
+  EXPECT_TRUE(box.contains(fcl::Vector3<S>(S(0.5), S(0.1), S(0.2))));
+}
+
+TYPED_TEST(Solid, CollideSolidsReportsContainment)
+{
+  using S = TypeParam;
+  const auto big_mesh = fcl_rs::makeSphere<S>(2, 8, 12), small_mesh = fcl_rs::makeSphere<S>(S(0.3), 6, 8);
+  const fcl_rs::SolidMesh<S> big(solidModel(big_mesh)), small(solidModel(small_mesh));
+  fcl::Transform3<S> tf_big = fcl::Transform3<S>::Identity(), tf_small = fcl::Transform3<S>::Identity();
+  tf_big.translation() = fcl::Vector3<S>(S(0.5), -1, 2);
+  tf_small.translation() = fcl::Vector3<S>(S(1.2), S(-0.6), S(2.3));
+  const auto inside = fcl_rs::collideSolids(small, tf_small, big, tf_big);
+  EXPECT_TRUE(inside.collision);
+  EXPECT_EQ(inside.contact, fcl_rs::SolidContact::kFirstInsideSecond);
+  EXPECT_FALSE(inside.has_penetration_depth);
+  EXPECT_EQ(fcl_rs::collideSolids(big, tf_big, small, tf_small).contact, fcl_rs::SolidContact::kSecondInsideFirst);
+  fcl::CollisionResult<S> surfaces;
+  fcl_rs::collide<S>(&small.model(), tf_small, &big.model(), tf_big, fcl::CollisionRequest<S>(), surfaces);
+  EXPECT_FALSE(surfaces.isCollision());
+  fcl_rs::SolidCollisionRequest surfaces_only;
+  surfaces_only.containment = false;
+  EXPECT_FALSE(fcl_rs::collideSolids(small, tf_small, big, tf_big, surfaces_only).collision);
+  tf_small.translation() = fcl::Vector3<S>(5, 0, 0);
+  EXPECT_EQ(fcl_rs::collideSolids(small, tf_small, big, tf_big).contact, fcl_rs::SolidContact::kNone);
+  tf_small.translation() = tf_big.translation() + fcl::Vector3<S>(2, 0, 0);
+  EXPECT_EQ(fcl_rs::collideSolids(small, tf_small, big, tf_big).contact, fcl_rs::SolidContact::kSurfacesIntersect);
+  // Bad poses are refused, naming the argument.
+  fcl::Transform3<S> nan = tf_big;
+  nan.translation()[1] = std::numeric_limits<S>::quiet_NaN();
+  const std::string message =
+      fcl_rs::test::messageOf([&] { fcl_rs::collideSolids(small, tf_small, big, nan); });
+  EXPECT_NE(message.find("tfb"), std::string::npos) << message;
+  EXPECT_THROW(fcl_rs::collideSolids(small, nan, big, tf_big), std::invalid_argument);
+}
+
+TYPED_TEST(Solid, CollideSolidsMatchesBruteForceOnRandomPoses)
+{
+  using S = TypeParam;
+  auto rng = fcl_rs::test::seededRng("solid/collide/" + scalarName<S>());
+  const auto box_mesh = fcl_rs::makeBox<S>(1, S(0.6), S(0.8)), ball_mesh = fcl_rs::makeSphere<S>(S(0.25), 4, 6);
+  const fcl_rs::SolidMesh<S> box(solidModel(box_mesh)), ball(solidModel(ball_mesh));
+  int counts[4] = {0, 0, 0, 0};
+  for (int i = 0; i < 150; ++i)
+  {
+    const fcl::Transform3<S> tf_box = fcl_rs::test::randomPose<S>(rng, 1);
+    // Near the box's centre (often inside) or around it (often apart or crossing).
+    fcl::Transform3<S> tf_ball = fcl_rs::test::randomPose<S>(rng, i % 4 < 2 ? S(0.1) : S(0.8));
+    tf_ball.translation() += tf_box.translation();
+    const bool swap = i % 2;
+    const auto result =
+        swap ? fcl_rs::collideSolids(ball, tf_ball, box, tf_box) : fcl_rs::collideSolids(box, tf_box, ball, tf_ball);
+    const auto a = worldTriangles(box_mesh, tf_box), b = worldTriangles(ball_mesh, tf_ball);
+    fcl_rs::SolidContact expected = fcl_rs::SolidContact::kNone;
+    if (bruteSurfacesMeet(a, b))
+      expected = fcl_rs::SolidContact::kSurfacesIntersect;
+    else if (bruteInside(a, b[0][0]))
+      expected = swap ? fcl_rs::SolidContact::kFirstInsideSecond : fcl_rs::SolidContact::kSecondInsideFirst;
+    else if (bruteInside(b, a[0][0]))
+      expected = swap ? fcl_rs::SolidContact::kSecondInsideFirst : fcl_rs::SolidContact::kFirstInsideSecond;
+    EXPECT_EQ(result.contact, expected) << "pose #" << i << " " << fcl_rs::test::poseString(tf_box) << " "
+                                        << fcl_rs::test::poseString(tf_ball);
+    EXPECT_EQ(result.collision, expected != fcl_rs::SolidContact::kNone);
+    ++counts[int(expected)];
+  }
+  // Not a library property: guards the pose distribution (each answer occurs).
+  EXPECT_GT(counts[0], 5);
+  EXPECT_GT(counts[1], 5);
+  EXPECT_GT(counts[2] + counts[3], 5);
+}
+
+TYPED_TEST(Solid, VertexPenetrationDepth)
+{
+  using S = TypeParam;
+  // Analytic: a cube of half-size 0.25 at (0.6, 0, 0) inside one of half-size 1: its vertices at x = 0.35 are 0.65
+  // from the face x = 1 (0.75 from y = +-1 and z = +-1).
+  const fcl_rs::SolidMesh<S> cube(solidModel(fcl_rs::makeBox<S>(2, 2, 2))),
+      little(solidModel(fcl_rs::makeBox<S>(S(0.5), S(0.5), S(0.5))));
+  fcl::Transform3<S> tf_little = fcl::Transform3<S>::Identity();
+  tf_little.translation() = fcl::Vector3<S>(S(0.6), 0, 0);
+  fcl_rs::SolidCollisionRequest request;
+  request.penetration_depth = true;
+  const S eps = 64 * std::numeric_limits<S>::epsilon();
+  const auto analytic = fcl_rs::collideSolids(little, tf_little, cube, fcl::Transform3<S>::Identity(), request);
+  ASSERT_TRUE(analytic.has_penetration_depth);
+  EXPECT_EQ(analytic.contact, fcl_rs::SolidContact::kFirstInsideSecond);
+  EXPECT_NEAR(analytic.penetration_depth, S(0.65), eps);
+  EXPECT_EQ(analytic.deepest_mesh, 0);
+  EXPECT_NEAR(analytic.deepest_vertex.x(), S(0.35), eps);
+  EXPECT_NEAR(analytic.nearest_on_other.x(), S(1), eps);
+  EXPECT_NEAR((analytic.nearest_on_other - analytic.deepest_vertex).norm(), S(0.65), eps);
+
+  // Random overlapping poses against the definition's brute force; on a few, the lower-bound property: a translation
+  // shorter than the depth, in any direction, leaves the solids colliding.
+  auto rng = fcl_rs::test::seededRng("solid/depth/" + scalarName<S>());
+  const auto box_mesh = fcl_rs::makeBox<S>(1, S(0.6), S(0.8)), ball_mesh = fcl_rs::makeSphere<S>(S(0.4), 4, 6);
+  const fcl_rs::SolidMesh<S> box(solidModel(box_mesh)), ball(solidModel(ball_mesh));
+  int colliding = 0, deep = 0, bound_checks = 0;
+  for (int i = 0; i < 120; ++i)
+  {
+    const fcl::Transform3<S> tf_box = fcl_rs::test::randomPose<S>(rng, 1);
+    fcl::Transform3<S> tf_ball = fcl_rs::test::randomPose<S>(rng, S(0.4));
+    tf_ball.translation() += tf_box.translation();
+    const auto result = fcl_rs::collideSolids(box, tf_box, ball, tf_ball, request);
+    if (!result.collision) continue;
+    ++colliding;
+    ASSERT_TRUE(result.has_penetration_depth);
+    const LD expected = bruteVertexDepth(worldTriangles(box_mesh, tf_box), worldTriangles(ball_mesh, tf_ball));
+    const S tolerance = eps * (1 + tf_box.translation().template lpNorm<Eigen::Infinity>() +
+                               tf_ball.translation().template lpNorm<Eigen::Infinity>());
+    EXPECT_NEAR(double(result.penetration_depth), double(expected), double(tolerance))
+        << "pose #" << i << " " << fcl_rs::test::poseString(tf_box) << " " << fcl_rs::test::poseString(tf_ball);
+    if (result.deepest_mesh >= 0)
+      EXPECT_NEAR((result.nearest_on_other - result.deepest_vertex).norm(), result.penetration_depth, tolerance);
+    if (expected <= 0.05) continue;
+    ++deep;
+    if (bound_checks >= 6) continue;
+    ++bound_checks;
+    std::vector<fcl::Vector3<S>> directions;
+    for (int k = 0; k < 3; ++k)
+      for (S sign : {S(-1), S(1)}) directions.push_back(sign * fcl::Vector3<S>::Unit(k));
+    for (int k = 0; k < 6; ++k) directions.push_back(fcl_rs::test::randomRotation<S>(rng).col(0));
+    for (const fcl::Vector3<S>& direction : directions)
+    {
+      fcl::Transform3<S> moved = tf_ball;
+      moved.translation() += (1 - S(1e-3)) * result.penetration_depth * direction;
+      EXPECT_TRUE(fcl_rs::collideSolids(box, tf_box, ball, moved).collision)
+          << "pose #" << i << " moved along " << direction.transpose();
+    }
+  }
+  // Not a library property: guards the pose distribution.
+  EXPECT_GT(colliding, 30);
+  EXPECT_GT(deep, 5);
+  EXPECT_EQ(bound_checks, 6);
+}
+
+}  // namespace
