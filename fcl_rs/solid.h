@@ -50,7 +50,7 @@ public:
   /// whose sign is uncertain anywhere (it grazes an edge or a vertex, or p is on a triangle's plane inside it) is
   /// dropped for the next of a fixed sequence of directions (the x axis first, then 32 golden-spiral directions);
   /// kOnSurface when every direction was uncertain, i.e. p is within rounding of the surface. Cost: a tree walk
-  /// per direction tried.
+  /// per direction tried. A NaN or infinite coordinate throws std::invalid_argument (so does distanceToSurface).
   SolidSide classify(const fcl::Vector3<S>& p) const;
   /// Whether p is in the closed solid: inside, or on its surface within rounding (kOnSurface counts as inside).
   bool contains(const fcl::Vector3<S>& p) const { return classify(p) != SolidSide::kOutside; }

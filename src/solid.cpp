@@ -125,6 +125,12 @@ S distanceLowerBound(const RS<S>& bv, const fcl::Vector3<S>& p)
   return gap - slabPad(bv, y.cwiseAbs().maxCoeff());
 }
 
+template <typename S>
+void requireFinitePoint(const fcl::Vector3<S>& p, const char* api)
+{
+  if (!p.allFinite()) throw std::invalid_argument(std::string(api) + ": the point has a NaN or infinite coordinate");
+}
+
 enum class Crossing
 {
   kNo,
@@ -243,6 +249,7 @@ SolidMesh<S>::SolidMesh(std::shared_ptr<const Model> model) : model_(std::move(m
 template <typename S>
 SolidSide SolidMesh<S>::classify(const fcl::Vector3<S>& p) const
 {
+  requireFinitePoint(p, "fcl_rs::SolidMesh::classify");
   const Model& m = *model_;
   const RS<S>& root = m.getBV(0).bv;
   if (distanceLowerBound(root, p) > 0) return SolidSide::kOutside;  // certainly outside the root volume
@@ -282,6 +289,7 @@ SolidSide SolidMesh<S>::classify(const fcl::Vector3<S>& p) const
 template <typename S>
 S SolidMesh<S>::distanceToSurface(const fcl::Vector3<S>& p, fcl::Vector3<S>* nearest) const
 {
+  requireFinitePoint(p, "fcl_rs::SolidMesh::distanceToSurface");
   using W = typename WiderScalar<S>::type;
   using VW = Eigen::Matrix<W, 3, 1>;
   const Model& m = *model_;

@@ -1499,6 +1499,14 @@ TYPED_TEST(Solid, ContainsMatchesWindingNumberParity)
   EXPECT_EQ(box.classify(fcl::Vector3<S>(S(0.5), S(0.5), S(0.5))), fcl_rs::SolidSide::kOnSurface);
   EXPECT_EQ(box.classify(fcl::Vector3<S>(S(0.5), S(0.1), S(0.2))), fcl_rs::SolidSide::kOnSurface);
   EXPECT_TRUE(box.contains(fcl::Vector3<S>(S(0.5), S(0.1), S(0.2))));
+  // Non-finite points are refused, not classified.
+  for (const S bad : {std::numeric_limits<S>::quiet_NaN(), std::numeric_limits<S>::infinity()})
+  {
+    const fcl::Vector3<S> p(S(0.1), bad, S(0.2));
+    EXPECT_NE(fcl_rs::test::messageOf([&] { box.classify(p); }).find("classify: the point has a NaN or infinite"),
+              std::string::npos);
+    EXPECT_THROW(box.distanceToSurface(p), std::invalid_argument);
+  }
 }
 
 TYPED_TEST(Solid, CollideSolidsReportsContainment)
