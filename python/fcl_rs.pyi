@@ -126,6 +126,25 @@ def distance_batch(a: Geometry, poses_a: ArrayLike, b: Geometry, poses_b: ArrayL
                    num_threads: int = 0) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """Distances (N,) and world-frame nearest points (N, 2, 3)."""
 
+class Solid:
+    """A closed mesh whose interior counts: containment and a vertex penetration depth (docs/solid.md)."""
+    def __init__(self, mesh: Mesh) -> None:
+        """Raises ValueError naming the first edge not run by exactly two triangles in opposite directions."""
+    @property
+    def mesh(self) -> Mesh: ...
+    def classify(self, point: ArrayLike) -> str:
+        """'inside', 'outside' or 'on_surface' (within rounding of the surface), mesh coordinates."""
+    def contains(self, point: ArrayLike) -> bool:
+        """Whether the point (mesh coordinates) is inside or on the surface."""
+    def distance_to_surface(self, point: ArrayLike) -> Tuple[float, npt.NDArray[np.float64]]:
+        """(distance, nearest point) from the point to the surface, mesh coordinates."""
+
+def collide_solids(a: Solid, pose_a: ArrayLike, b: Solid, pose_b: ArrayLike, containment: bool = True,
+                   penetration_depth: bool = False) -> Dict[str, object]:
+    """Keys: collision, contact ('none', 'surfaces_intersect', 'first_inside_second', 'second_inside_first'),
+    penetration_depth (None unless asked and colliding), deepest_mesh (0 or 1), deepest_vertex and
+    nearest_on_other (world coordinates; None when no vertex is inside the other solid)."""
+
 class Robot:
     """A URDF robot (SRDF disabled pairs optional) with a self-collision checker."""
     def __init__(self, urdf: str, srdf: str = "", bv: str = "RS") -> None:

@@ -38,6 +38,7 @@
 #include "fcl_rs/mesh/load_mesh.h"
 #include "fcl_rs/robot.h"
 #include "fcl_rs/robot/batch_environment.h"
+#include "fcl_rs/solid.h"
 #include "fcl_rs/robot/batch_self_collision.h"
 #include "fcl_rs/validate.h"
 #include "fcl_rs/version.h"
@@ -176,15 +177,21 @@ double sizeOf(double value, const char* api, const char* argument)
   return value;
 }
 
+/// Three finite numbers.
+fcl::Vector3d pointOf(const py::handle& obj, const char* api, const char* argument)
+{
+  const py::array a = realArray(obj, api, argument);
+  requireShape(a, {3}, api, argument, "(3,)");
+  const Doubles values = doublesOf(a);
+  requireFinite(values, api, argument);
+  return fcl::Vector3d(values.data()[0], values.data()[1], values.data()[2]);
+}
+
 /// A plane's or halfspace's normal: three finite numbers, not all zero, whose length is finite (FCL's constructors
 /// divide by it, and take a zero normal as the x axis silently).
 fcl::Vector3d normalOf(const py::handle& obj, const char* api)
 {
-  const py::array a = realArray(obj, api, "normal");
-  requireShape(a, {3}, api, "normal", "(3,)");
-  const Doubles values = doublesOf(a);
-  requireFinite(values, api, "normal");
-  const fcl::Vector3d n(values.data()[0], values.data()[1], values.data()[2]);
+  const fcl::Vector3d n = pointOf(obj, api, "normal");
   if (!(n.norm() > 0 && std::isfinite(n.norm())))
     badArgument(api, "normal", "must have a non-zero finite length, got (" + std::to_string(n.x()) + ", " +
                                    std::to_string(n.y()) + ", " + std::to_string(n.z()) + ")");
@@ -716,6 +723,77 @@ PYBIND11_MODULE(fcl_rs, m)
       py::arg("num_threads") = 0,
       "Distances (N,) and world-frame nearest points (N, 2, 3) of a at poses_a[i] and b at poses_b[i].");
 
+  py::class_<SolidMesh<double>>(m, "Solid",
+                                "A closed mesh whose interior counts: containment and a vertex penetration depth "
+                                "(docs/solid.md).")
+      .def(py::init([](const std::shared_ptr<fcl::BVHModel<RSd>>& mesh) { return SolidMesh<double>(mesh); }),
+           py::arg("mesh").none(false),
+           "Raises ValueError naming the first edge not run by exactly two triangles in opposite directions.")
+      .def_property_readonly(
+          "mesh", [](const SolidMesh<double>& s) { return std::const_pointer_cast<fcl::BVHModel<RSd>>(s.modelPtr()); })
+      .def(
+          "classify",
+          [](const SolidMesh<double>& s, const py::handle& point) {
+            switch (s.classify(pointOf(point, "fcl_rs.Solid.classify", "point")))
+            {
+              case SolidSide::kInside: return "inside";
+              case SolidSide::kOutside: return "outside";
+              case SolidSide::kOnSurface: break;
+            }
+            return "on_surface";
+          },
+          py::arg("point"),
+          "'inside', 'outside' or 'on_surface' (within rounding of the surface) for a point in the mesh's "
+          "coordinates.")
+      .def(
+          "contains",
+          [](const SolidMesh<double>& s, const py::handle& point) {
+            return s.contains(pointOf(point, "fcl_rs.Solid.contains", "point"));
+          },
+          py::arg("point"), "Whether the point (mesh coordinates) is inside or on the surface.")
+      .def(
+          "distance_to_surface",
+          [](const SolidMesh<double>& s, const py::handle& point) {
+            fcl::Vector3d nearest;
+            const double d = s.distanceToSurface(pointOf(point, "fcl_rs.Solid.distance_to_surface", "point"), &nearest);
+            return py::make_tuple(d, nearest);
+          },
+          py::arg("point"), "(distance, nearest point) from the point to the surface, mesh coordinates.");
+
+  m.def(
+      "collide_solids",
+      [](const SolidMesh<double>& a, const py::handle& pose_a, const SolidMesh<double>& b, const py::handle& pose_b,
+         bool containment, bool penetration_depth) {
+        const char* api = "fcl_rs.collide_solids";
+        SolidCollisionRequest request;
+        request.containment = containment;
+        request.penetration_depth = penetration_depth;
+        const SolidCollisionResult<double> r =
+            collideSolids(a, poseOf(pose_a, api, "pose_a"), b, poseOf(pose_b, api, "pose_b"), request);
+        const char* contact = "none";
+        switch (r.contact)
+        {
+          case SolidContact::kNone: break;
+          case SolidContact::kSurfacesIntersect: contact = "surfaces_intersect"; break;
+          case SolidContact::kFirstInsideSecond: contact = "first_inside_second"; break;
+          case SolidContact::kSecondInsideFirst: contact = "second_inside_first"; break;
+        }
+        py::dict out;
+        out["collision"] = r.collision;
+        out["contact"] = contact;
+        out["penetration_depth"] = r.has_penetration_depth ? py::object(py::float_(r.penetration_depth)) : py::none();
+        const bool deepest = r.deepest_mesh >= 0;
+        out["deepest_mesh"] = deepest ? py::object(py::int_(r.deepest_mesh)) : py::none();
+        out["deepest_vertex"] = deepest ? py::cast(r.deepest_vertex) : py::none();
+        out["nearest_on_other"] = deepest ? py::cast(r.nearest_on_other) : py::none();
+        return out;
+      },
+      py::arg("a").none(false), py::arg("pose_a"), py::arg("b").none(false), py::arg("pose_b"),
+      py::arg("containment") = true, py::arg("penetration_depth") = false,
+      "fcl_rs::collideSolids at 4x4 poses: a dict with collision, contact ('none', 'surfaces_intersect',\n"
+      "'first_inside_second', 'second_inside_first'), penetration_depth (None unless asked and colliding),\n"
+      "deepest_mesh (0 or 1), deepest_vertex and nearest_on_other (world coordinates; None without a vertex inside).");
+
   py::class_<Robot>(m, "Robot", "A URDF robot (SRDF disabled pairs optional) with a self-collision checker.")
       .def(py::init<const std::string&, const std::string&, const std::string&>(), py::arg("urdf"),
            py::arg("srdf") = "", py::arg("bv") = "RS",
@@ -861,10 +939,7 @@ PYBIND11_MODULE(fcl_rs, m)
             std::optional<octomap::point3d> origin;
             if (!sensor_origin.is_none())
             {
-              const py::array a = realArray(sensor_origin, api, "sensor_origin");
-              requireShape(a, {3}, api, "sensor_origin", "(3,)");
-              const Doubles xyz = doublesOf(a);
-              requireFinite(xyz, api, "sensor_origin");
+              const fcl::Vector3d xyz = pointOf(sensor_origin, api, "sensor_origin");
               origin = pointIn(*o.map, xyz.data(), api, "sensor_origin");
             }
             const WorldEdit edit(worldLock());

@@ -330,6 +330,31 @@ CHILD = textwrap.dedent(r'''
             expect(f"OcTree.save unwritable .{ext}", lambda: octree.save(f"/nonexistent/map.{ext}"),
                    RuntimeError, f"fcl_rs.OcTree.save: cannot write '/nonexistent/map.{ext}'")
 
+    # Solids: a closed tetrahedron; `mesh` runs its edge (0, 1) the same way in two triangles.
+    solid = fcl_rs.Solid(fcl_rs.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]],
+                                     [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]))
+    expect("Solid not closed", lambda: fcl_rs.Solid(mesh), ValueError,
+           r"fcl_rs::SolidMesh: the mesh is not closed: edge \(0, 1\) has inconsistent orientation")
+    for name, g in [("None", None), ("Sphere", sphere), ("array", I)]:
+        expect(f"Solid mesh={name}", lambda: fcl_rs.Solid(g), TypeError, "incompatible")
+    for method in ("classify", "contains", "distance_to_surface"):
+        for name, point, pattern in [("nan", [nan, 0, 0], r"point\[0\] is not finite: nan"),
+                                     ("inf", [0, 0, inf], r"point\[2\] is not finite: inf"),
+                                     ("shape (2,)", [0, 0], r"point must have shape \(3,\), got \(2,\)"),
+                                     ("strings", ["0", "0", "0"], "point must hold real numbers"),
+                                     ("None", None, "point must hold real numbers")]:
+            expect(f"Solid.{method} {name}", lambda: getattr(solid, method)(point), ValueError,
+                   f"fcl_rs.Solid.{method}: {pattern}")
+    for name, p, error, pattern in bad_poses():
+        expect(f"collide_solids pose_a {name}", lambda: fcl_rs.collide_solids(solid, p, solid, I), error,
+               f"fcl_rs.collide_solids: pose_a .*{pattern}")
+        expect(f"collide_solids pose_b {name}", lambda: fcl_rs.collide_solids(solid, I, solid, p), error,
+               f"fcl_rs.collide_solids: pose_b .*{pattern}")
+    for name, g in [("None", None), ("Mesh", mesh), ("int", 3)]:
+        expect(f"collide_solids a={name}", lambda: fcl_rs.collide_solids(g, I, solid, I), TypeError, "incompatible")
+    expect("collide_solids containment=str", lambda: fcl_rs.collide_solids(solid, I, solid, I, containment="yes"),
+           TypeError, "incompatible")
+
     print("\n".join(failures))
     sys.exit(1 if failures else 0)
 ''')

@@ -147,3 +147,40 @@ def test_errors_keep_the_library_messages(tmp_path, chain_urdf):
         fcl_rs.collide_batch(box, identity, box, identity[:2])
     with pytest.raises(ValueError, match="num_threads must be >= 0"):
         fcl_rs.collide_batch(box, identity, box, identity, num_threads=-2)
+
+
+def box_mesh(half):
+    """A cube of the given half-size at the origin, 12 triangles run consistently (a closed mesh)."""
+    vertices = [[(2 * (i & 1) - 1) * half, (2 * (i >> 1 & 1) - 1) * half, (2 * (i >> 2 & 1) - 1) * half]
+                for i in range(8)]
+    triangles = [[0, 4, 6], [0, 6, 2], [1, 3, 7], [1, 7, 5], [0, 1, 5], [0, 5, 4],
+                 [2, 6, 7], [2, 7, 3], [0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6]]
+    return vertices, triangles
+
+
+def test_solids_count_containment_and_report_the_vertex_penetration_depth():
+    big, little = fcl_rs.Solid(fcl_rs.Mesh(*box_mesh(1.0))), fcl_rs.Solid(fcl_rs.Mesh(*box_mesh(0.25)))
+    pose = np.eye(4)
+    pose[0, 3] = 0.6
+    # The surfaces are apart: read as surfaces (FCL, fcl_rs.collide) nothing collides, read as solids one is inside.
+    assert not fcl_rs.collide(little.mesh, pose, big.mesh, np.eye(4)).is_collision
+    r = fcl_rs.collide_solids(little, pose, big, np.eye(4), penetration_depth=True)
+    assert r["collision"] and r["contact"] == "first_inside_second"
+    # The little cube's vertices at x = 0.35 are 0.65 from the face x = 1 (0.75 from the others).
+    assert r["penetration_depth"] == pytest.approx(0.65, abs=1e-12)
+    assert r["deepest_mesh"] == 0 and r["deepest_vertex"][0] == pytest.approx(0.35, abs=1e-12)
+    assert np.linalg.norm(r["nearest_on_other"] - r["deepest_vertex"]) == pytest.approx(0.65, abs=1e-12)
+    assert fcl_rs.collide_solids(big, np.eye(4), little, pose)["contact"] == "second_inside_first"
+    plain = fcl_rs.collide_solids(little, pose, big, np.eye(4))
+    assert plain["penetration_depth"] is None and plain["deepest_vertex"] is None
+    assert not fcl_rs.collide_solids(little, pose, big, np.eye(4), containment=False)["collision"]
+    pose[0, 3] = 1.0
+    assert fcl_rs.collide_solids(little, pose, big, np.eye(4))["contact"] == "surfaces_intersect"
+    pose[0, 3] = 5.0
+    assert fcl_rs.collide_solids(little, pose, big, np.eye(4))["contact"] == "none"
+    assert big.classify([0.2, 0.3, 0.1]) == "inside" and big.contains([0.2, 0.3, 0.1])
+    assert big.classify([1.0, 0.3, 0.1]) == "on_surface" and big.contains([1.0, 0.3, 0.1])
+    assert big.classify([3, 0, 0]) == "outside" and not big.contains([3, 0, 0])
+    d, nearest = big.distance_to_surface([0.2, 0.3, 0.1])
+    assert d == pytest.approx(0.7, abs=1e-12)
+    np.testing.assert_allclose(nearest, [0.2, 1.0, 0.1], atol=1e-12)
