@@ -55,7 +55,8 @@ public:
   /// Whether p is in the closed solid: inside, or on its surface within rounding (kOnSurface counts as inside).
   bool contains(const fcl::Vector3<S>& p) const { return classify(p) != SolidSide::kOutside; }
   /// Distance from p (model coordinates) to the surface (the nearest triangle), through the tree; *nearest, if
-  /// given, receives the nearest point. Closest points on triangles are computed in WiderScalar<S>.
+  /// given, receives the nearest point. Closest points on triangles are the mesh-shape leaf's
+  /// (triangle_shape::closestOnTriangle, in double).
   S distanceToSurface(const fcl::Vector3<S>& p, fcl::Vector3<S>* nearest = nullptr) const;
 
 private:

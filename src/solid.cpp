@@ -14,6 +14,7 @@
 #include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/collide.h"
 #include "fcl_rs/narrowphase/triangle_intersection.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/validate.h"
 
 namespace fcl_rs {
@@ -188,31 +189,6 @@ const std::vector<fcl::Vector3<S>>& rayDirections()
   return directions;
 }
 
-/// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection, 5.1.5), in the wider type.
-template <typename W>
-Eigen::Matrix<W, 3, 1> closestOnTriangle(const Eigen::Matrix<W, 3, 1>& p, const Eigen::Matrix<W, 3, 1>& a,
-                                         const Eigen::Matrix<W, 3, 1>& b, const Eigen::Matrix<W, 3, 1>& c)
-{
-  const Eigen::Matrix<W, 3, 1> ab = b - a, ac = c - a, ap = p - a;
-  const W d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Eigen::Matrix<W, 3, 1> bp = p - b;
-  const W d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const W vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-  const Eigen::Matrix<W, 3, 1> cp = p - c;
-  const W d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const W vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-  const W va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const W denom = va + vb + vc;
-  if (!(denom > 0)) return a;  // degenerate (zero-area) triangle: its edges were all handled above
-  return a + ab * (vb / denom) + ac * (vc / denom);
-}
-
 }  // namespace
 
 template <typename S>
@@ -290,25 +266,25 @@ template <typename S>
 S SolidMesh<S>::distanceToSurface(const fcl::Vector3<S>& p, fcl::Vector3<S>* nearest) const
 {
   requireFinitePoint(p, "fcl_rs::SolidMesh::distanceToSurface");
-  using W = typename WiderScalar<S>::type;
-  using VW = Eigen::Matrix<W, 3, 1>;
   const Model& m = *model_;
-  const VW pw = p.template cast<W>();
-  W best = std::numeric_limits<W>::infinity();
-  VW best_point = pw;
+  const Eigen::Vector3d pd = p.template cast<double>();
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d best_point = pd;
   // Depth first, nearer child first, pruned by the slab lower bound.
   std::vector<std::pair<int, S>> stack{{0, distanceLowerBound(m.getBV(0).bv, p)}};
   while (!stack.empty())
   {
     const auto [id, bound] = stack.back();
     stack.pop_back();
-    if (W(bound) > best) continue;
+    if (double(bound) > best) continue;
     const auto& node = m.getBV(id);
     if (isLeaf(node))
     {
       const auto t = triangleVertices(m.vertices, m.tri_indices[primitiveId(node)]);
-      const VW c = closestOnTriangle<W>(pw, t[0].template cast<W>(), t[1].template cast<W>(), t[2].template cast<W>());
-      const W dist = (c - pw).norm();
+      const Eigen::Vector3d corners[3] = {t[0].template cast<double>(), t[1].template cast<double>(),
+                                          t[2].template cast<double>()};
+      const Eigen::Vector3d c = triangle_shape::closestOnTriangle(corners, pd);
+      const double dist = (c - pd).norm();
       if (dist < best)
       {
         best = dist;
