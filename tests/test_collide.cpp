@@ -1618,7 +1618,9 @@ TYPED_TEST(Solid, VertexPenetrationDepth)
     EXPECT_NEAR(double(result.penetration_depth), double(expected), double(tolerance))
         << "pose #" << i << " " << fcl_rs::test::poseString(tf_box) << " " << fcl_rs::test::poseString(tf_ball);
     if (result.deepest_mesh >= 0)
+    {
       EXPECT_NEAR((result.nearest_on_other - result.deepest_vertex).norm(), result.penetration_depth, tolerance);
+    }
     if (expected <= 0.05) continue;
     ++deep;
     if (bound_checks >= 6) continue;

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <type_traits>
 
 #include "fcl_rs/bv/lanes.h"
@@ -248,68 +249,149 @@ S slabGap(S lo, S hi, const RS<S>& b, const Box<S>& box, const ProjectedBox<S>& 
 
 namespace detail {
 
+/// b1's side of the boxed test against a volume whose moved frame has axis rows `axis_rows` (BoxedFrame's, R A2):
+/// M's rows and columns, b1's frame and box, and b1's share of the rounding bound. PairFrame's arithmetic in float
+/// lanes, reading b1 as stored (no conversions); lane i of a 3-vector is coordinate i, unused lanes are 0 or never
+/// compared.
+template <typename S>
+struct BoxedAxes
+{
+  static_assert(std::is_same_v<typename RS<S>::Stored, float>, "volumes are stored in float");
+  BoxedAxes(const Lanes axis_rows[3], const RS<S>& b1)
+    : origin(b1.origin), origin_norm(b1.origin.template lpNorm<1>())
+  {
+    using Map = Eigen::Map<const Lanes, Eigen::Unaligned>;
+    // Columns u0, u1, u2; the last column's load reads one float past the frame (the next member), into a lane
+    // that only the unused fourth row of a_rows receives.
+    const float* A1 = b1.axis.data();
+    // Rows of M = A1^T (R A2) (lane c: b2's axis c), then its columns (lane i: b1's axis i).
+    for (int i = 0; i < 3; ++i)
+      m[i] = A1[3 * i] * axis_rows[0] + A1[3 * i + 1] * axis_rows[1] + A1[3 * i + 2] * axis_rows[2];
+    transpose3(m[0], m[1], m[2], w);
+    transpose3(Map(A1), Map(A1 + 3), Map(A1 + 6), a_rows);
+    const Lanes lo1 = Map(b1.lo.data()), hi1 = Map(b1.hi.data());  // lane 3 holds the first diagonal: unused
+    c1 = (lo1 + hi1) * 0.5f;
+    h1 = (hi1 - lo1) * 0.5f;
+    reach = S((c1.abs() + h1).template head<3>().maxCoeff());
+  }
+  Lanes m[3], w[3], a_rows[3];
+  Lanes c1, h1;  ///< b1's box
+  fcl::Vector3<S> origin;
+  S origin_norm, reach;  ///< |o1|_1 and the box's reach(), pairRoundingBound's terms of b1
+};
+
+/// b1's side of the boxed test's diagonals (BoxedAxes'): b1's radius sum_i |M_ic +- M_id| h1_i along b2's
+/// diagonals, |M_ic +- M_jc| (b2's box reaches their sum weighted by h2 along b1's diagonal (i, j)), and b1's
+/// diagonal slabs' middles and half widths, all sqrt(2) times.
+template <typename S>
+struct BoxedDiagonals
+{
+  BoxedDiagonals(const BoxedAxes<S>& a, const RS<S>& b1)
+  {
+    const float scale = float(M_SQRT1_2);
+    Lanes diag[2];
+    radius1[0] = radius1[1] = Lanes::Zero();
+    for (int c = 0; c < 3; ++c)
+    {
+      diagonalLanes(a.w[c], diag[0], diag[1]);
+      for (int h = 0; h < 2; ++h) w_diagonal[c][h] = diag[h].abs();
+      diagonalLanes(a.m[c], diag[0], diag[1]);
+      for (int h = 0; h < 2; ++h) radius1[h] += diag[h].abs() * a.h1[c];
+    }
+    Lanes lo[2], hi[2];
+    diagonalSlabs(b1, lo, hi);
+    for (int h = 0; h < 2; ++h)
+    {
+      mid1[h] = (lo[h] + hi[h]) * scale;
+      half1[h] = (hi[h] - lo[h]) * scale;
+    }
+  }
+  Lanes radius1[2], w_diagonal[3][2], mid1[2], half1[2];
+};
+
+/// b1's side of the boxed test computed for one pair: the diagonals' part only when the pair reaches them.
+template <typename S>
+struct FreshBoxedNode
+{
+  FreshBoxedNode(const Lanes axis_rows[3], const RS<S>& b1) : a(axis_rows, b1), b1(b1) {}
+  const BoxedAxes<S>& axes() const { return a; }
+  BoxedDiagonals<S> diagonals() const { return BoxedDiagonals<S>(a, b1); }
+  BoxedAxes<S> a;
+  const RS<S>& b1;
+};
+
+/// b1's side of the boxed test kept for every volume moved by the same axes (an octree's cells share the octree's
+/// frame): a traversal computes it once per node of the first tree and query; the diagonals' part when first asked.
+template <typename S>
+class BoxedNode
+{
+public:
+  BoxedNode(const Lanes axis_rows[3], const RS<S>& b1) : a_(axis_rows, b1), b1_(&b1) {}
+  const BoxedAxes<S>& axes() const { return a_; }
+  const BoxedDiagonals<S>& diagonals() const
+  {
+    if (!diagonals_) diagonals_.emplace(a_, *b1_);
+    return *diagonals_;
+  }
+
+private:
+  BoxedAxes<S> a_;
+  const RS<S>* b1_;
+  mutable std::optional<BoxedDiagonals<S>> diagonals_;
+};
+
 /// The boxed test (OverlapTest::kBoxed): each volume's nine slabs against the other's principal box, measured
 /// from the box centres (|middle of the box - middle of the slab| > radius + half width means apart). Each
 /// volume's three face axes come first with one exit (most separated pairs end there, as in an OBB test); the
 /// twelve diagonals, which every overlapping pair reaches, have no branch. They are compared sqrt(2) times (a
 /// diagonal is (u_i +- u_j) / sqrt(2)).
-template <typename S>
-bool boxedOverlap(const BoxedFrame<S>& moved2, const RS<S>& b1)
+/// b1's side comes from `node` (FreshBoxedNode or BoxedNode, made with moved2's axis rows); b2 is `moved2` with
+/// its box centre moved to `centre2_model` and its offsets `offsets2` (moved2's own, or those of a volume of the
+/// same shape and axes elsewhere: an octree's cells). Inlined by force, so that b1's side computed for the pair
+/// stays in registers.
+template <typename S, typename Node>
+__attribute__((always_inline)) inline bool boxedOverlap(const Node& node, const BoxedFrame<S>& moved2,
+                                                        const fcl::Vector3<S>& centre2_model, S offsets2)
 {
-  // PairFrame's arithmetic in float lanes, reading b1 as stored (no conversions). Lane i of a 3-vector is
-  // coordinate i; unused lanes are 0 or never compared.
-  static_assert(std::is_same_v<typename RS<S>::Stored, float>, "volumes are stored in float");
-  using Map = Eigen::Map<const Lanes, Eigen::Unaligned>;
-  // Columns u0, u1, u2; the last column's load reads one float past the frame (the next member), into a lane
-  // that only the unused fourth row of a_rows receives.
-  const float* A1 = b1.axis.data();
-  // Rows of M = A1^T (R A2) (lane c: b2's axis c), then its columns (lane i: b1's axis i).
-  Lanes m[3], w[3];
-  for (int i = 0; i < 3; ++i)
-    m[i] = A1[3 * i] * moved2.axis_rows[0] + A1[3 * i + 1] * moved2.axis_rows[1] + A1[3 * i + 2] * moved2.axis_rows[2];
-  transpose3(m[0], m[1], m[2], w);
-  Lanes a_rows[3];
-  transpose3(Map(A1), Map(A1 + 3), Map(A1 + 6), a_rows);
-  const fcl::Vector3<S> delta = moved2.centre - b1.origin;  // in S: both may be far from the model origin
-  const Lanes centre2 = float(delta[0]) * a_rows[0] + float(delta[1]) * a_rows[1] + float(delta[2]) * a_rows[2];
-  const Lanes lo1 = Map(b1.lo.data()), hi1 = Map(b1.hi.data());  // lane 3 holds the first diagonal: unused
-  const Lanes c1 = (lo1 + hi1) * 0.5f, h1 = (hi1 - lo1) * 0.5f;
+  const BoxedAxes<S>& a = node.axes();
+  const fcl::Vector3<S> delta = centre2_model - a.origin;  // in S: both may be far from the model origin
+  const Lanes centre2 = float(delta[0]) * a.a_rows[0] + float(delta[1]) * a.a_rows[1] + float(delta[2]) * a.a_rows[2];
+  const Lanes& h1 = a.h1;
   const Lanes& h2 = moved2.half_extents;
-  const Lanes d = centre2 - c1;  // from b1's box centre to b2's, b1's frame
-  const float tol = storedPairRoundingBound<S>(
-      moved2.offsets + b1.origin.template lpNorm<1>(), S((c1.abs() + h1).template head<3>().maxCoeff()) + moved2.reach,
-      S(d.abs().template head<3>().sum()), delta.template lpNorm<1>());
+  const Lanes d = centre2 - a.c1;  // from b1's box centre to b2's, b1's frame
+  const float tol = storedPairRoundingBound<S>(offsets2 + a.origin_norm, a.reach + moved2.reach,
+                                               S(d.abs().template head<3>().sum()), delta.template lpNorm<1>());
   // b2's box reaches sum_c |M_ic| h2_c along b1's axis i; b1's box reaches sum_i |M_ic| h1_i along b2's axis c.
-  const Lanes gap1 = d.abs() - (w[0].abs() * h2[0] + w[1].abs() * h2[1] + w[2].abs() * h2[2]) - h1;
+  const Lanes gap1 = d.abs() - (a.w[0].abs() * h2[0] + a.w[1].abs() * h2[1] + a.w[2].abs() * h2[2]) - h1;
   if (gap1.template head<3>().maxCoeff() > tol) return false;
-  const Lanes e = -(d[0] * m[0] + d[1] * m[1] + d[2] * m[2]);  // from b2's box centre to b1's, b2's frame
-  const Lanes gap2 = e.abs() - (m[0].abs() * h1[0] + m[1].abs() * h1[1] + m[2].abs() * h1[2]) - h2;
+  const Lanes e = -(d[0] * a.m[0] + d[1] * a.m[1] + d[2] * a.m[2]);  // from b2's box centre to b1's, b2's frame
+  const Lanes gap2 = e.abs() - (a.m[0].abs() * h1[0] + a.m[1].abs() * h1[1] + a.m[2].abs() * h1[2]) - h2;
   if (gap2.template head<3>().maxCoeff() > tol) return false;
   // The diagonals, sqrt(2) times: a box's reach along b1's diagonal (i, j) is sum_c |M_ic +- M_jc| h2_c, along
   // b2's sum_i |M_ic +- M_id| h1_i. b2's slabs are measured from its box centre (MovedFrame), b1's from its frame
   // origin, as centre2. Unused lanes give 0 - 0 - 0, never above the tolerance.
-  const float scale = float(M_SQRT1_2);
-  Lanes diag[2], radius2[2] = {Lanes::Zero(), Lanes::Zero()}, radius1[2] = {Lanes::Zero(), Lanes::Zero()};
+  const auto& dg = node.diagonals();
+  Lanes radius2[2] = {Lanes::Zero(), Lanes::Zero()};
   for (int c = 0; c < 3; ++c)
-  {
-    diagonalLanes(w[c], diag[0], diag[1]);
-    for (int h = 0; h < 2; ++h) radius2[h] += diag[h].abs() * h2[c];
-    diagonalLanes(m[c], diag[0], diag[1]);
-    for (int h = 0; h < 2; ++h) radius1[h] += diag[h].abs() * h1[c];
-  }
-  Lanes lo_diagonal[2], hi_diagonal[2], centre_diagonal[2], e_diagonal[2];
-  diagonalSlabs(b1, lo_diagonal, hi_diagonal);
+    for (int h = 0; h < 2; ++h) radius2[h] += dg.w_diagonal[c][h] * h2[c];
+  Lanes centre_diagonal[2], e_diagonal[2];
   diagonalLanes(centre2, centre_diagonal[0], centre_diagonal[1]);
   diagonalLanes(e, e_diagonal[0], e_diagonal[1]);
   Lanes worst = Lanes::Constant(-std::numeric_limits<float>::max());
   for (int h = 0; h < 2; ++h)
   {
-    const Lanes gap_of_b1 = (centre_diagonal[h] - (lo_diagonal[h] + hi_diagonal[h]) * scale).abs() -
-                            (hi_diagonal[h] - lo_diagonal[h]) * scale - radius2[h];
-    const Lanes gap_of_b2 = (e_diagonal[h] - moved2.diagonal_mid[h]).abs() - moved2.diagonal_half[h] - radius1[h];
+    const Lanes gap_of_b1 = (centre_diagonal[h] - dg.mid1[h]).abs() - dg.half1[h] - radius2[h];
+    const Lanes gap_of_b2 = (e_diagonal[h] - moved2.diagonal_mid[h]).abs() - moved2.diagonal_half[h] - dg.radius1[h];
     worst = worst.max(gap_of_b1).max(gap_of_b2);
   }
   return !(worst.maxCoeff() > float(M_SQRT2) * tol);
+}
+
+/// The boxed test of b1 and b2 moved into b1's coordinates (moved2 = BoxedFrame(R, T, b2)).
+template <typename S>
+bool boxedOverlap(const BoxedFrame<S>& moved2, const RS<S>& b1)
+{
+  return boxedOverlap(FreshBoxedNode<S>(moved2.axis_rows, b1), moved2, moved2.centre, moved2.offsets);
 }
 
 /// Whether a triangle, its vertices y in b's frame coordinates, may meet b: its interval along each of b's nine

@@ -12,8 +12,8 @@
 #if FCL_HAVE_OCTOMAP
 
 #include <algorithm>
-#include <deque>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <fcl/geometry/bvh/BVH_model.h>
@@ -35,16 +35,95 @@
 namespace fcl_rs {
 namespace detail {
 
+/// An axis-aligned box of the octree's frame (fcl::AABB's corners, with FCL's arithmetic inline: libfcl.so holds
+/// AABB<double>'s members out of line, and a descent computes eight child boxes per split).
+template <typename S>
+struct CellBox
+{
+  fcl::Vector3<S> min, max;
+  /// As fcl::AABB::center and size.
+  fcl::Vector3<S> centre() const { return (min + max) * 0.5; }
+  S size() const { return (max - min).squaredNorm(); }
+  /// Child i's box, as fcl::computeChildBV computes it (bit k of i set: the upper half along axis k).
+  CellBox child(unsigned int i) const
+  {
+    CellBox c;
+    for (int k = 0; k < 3; ++k)
+    {
+      const S mid = (min[k] + max[k]) * 0.5;
+      const bool upper = (i >> k) & 1;
+      c.min[k] = upper ? mid : min[k];
+      c.max[k] = upper ? max[k] : mid;
+    }
+    return c;
+  }
+  fcl::AABB<S> aabb() const
+  {
+    fcl::AABB<S> box;
+    box.min_ = min;
+    box.max_ = max;
+    return box;
+  }
+};
+
+/// The cells of one size of a query: their box at the octree's origin as an RS (half extents `half`), and that RS
+/// moved into the mesh's frame; a cell of that shape moves it to its centre (OcTreeCell).
+template <typename S>
+struct OcTreeCellShape
+{
+  /// A shape for cells of half extents `half`, moved by (R, T): its half extents are those of a box made before
+  /// on this thread when that one fits (fits), else `half` a little enlarged, so that the cells of one depth, whose
+  /// sizes differ by rounding only, share it.
+  OcTreeCellShape(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const fcl::Vector3<S>& half)
+    : OcTreeCellShape(R, T, boxRS(half))
+  {
+  }
+  /// Whether a shape of half extents `made` serves cells of half extents `half`: it covers them and is at most a
+  /// millionth larger (a larger shape only prunes a little less).
+  static bool fits(const fcl::Vector3<S>& made, const fcl::Vector3<S>& half)
+  {
+    return (made.array() >= half.array()).all() && (made.array() <= half.array() * S(1 + 1e-6)).all();
+  }
+  using MadeBox = std::pair<fcl::Vector3<S>, RS<S>>;
+  OcTreeCellShape(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const MadeBox& box)
+    : bv(box.second), moved(R, T, bv), half(box.first), reach(half.maxCoeff())
+  {
+  }
+  /// The RS of a box (symmetricShapeRS) that fits cells of half extents `half`. Queries on an octree meet the same
+  /// few cell sizes (one per depth) again and again, so each thread keeps the last boxes it made.
+  static MadeBox boxRS(const fcl::Vector3<S>& half)
+  {
+    static thread_local std::vector<MadeBox> made;
+    for (const MadeBox& box : made)
+      if (fits(box.first, half)) return box;
+    constexpr std::size_t kKept = 64;  // a few octrees' depths, and their rounding variants in float
+    if (made.size() == kKept) made.clear();
+    // Enlarged by a few float ulps: covers the rounding of the other cells of the depth.
+    const fcl::Vector3<S> enlarged = half * S(1 + 4e-7);
+    made.emplace_back(enlarged, symmetricShapeRS<S>(fcl::Transform3<S>::Identity(), [&](const fcl::Vector3<S>& dir) {
+                        return dir.cwiseAbs().dot(enlarged);
+                      }));
+    return made.back();
+  }
+  RS<S> bv;
+  BoxedFrame<S> moved;
+  fcl::Vector3<S> half;
+  S reach;
+};
+
 /// An octree cell a traversal reached: its node (nullptr: a cell the octree does not store, visited only for the
-/// cost of unknown space, as FCL does), its box in the octree's frame, and that box as an RS, with its frame moved
-/// into the mesh's coordinates once for every mesh node it meets.
+/// cost of unknown space, as FCL does), whether it is a leaf (no node, or a node without children), its box in the
+/// octree's frame, its shape (an index into the query's), and the shape's RS moved to the cell (what
+/// MovedFrame::moveOrigin changes of the shape's moved frame: the origin, the box centre, the offsets).
 template <typename S>
 struct OcTreeCell
 {
   const typename fcl::OcTree<S>::OcTreeNode* node;
-  fcl::AABB<S> box;
-  RS<S> bv;
-  BoxedFrame<S> moved;
+  bool leaf;
+  CellBox<S> box;
+  int shape;
+  fcl::Vector3<S> origin, centre;
+  S offsets;
 };
 
 /// What the octree-mesh collision and distance descents share: the two geometries and poses, the solver, request
@@ -71,9 +150,12 @@ public:
   OcTreeMeshQuery(const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<S>& tf_mesh, const fcl::OcTree<S>& octree,
                   const fcl::Transform3<S>& tf_octree, const Solver& solver, const Request& request, Result& result)
     : solver_(solver), request_(request), result_(result), mesh_(mesh), tf_mesh_(tf_mesh), octree_(octree),
-      tf_octree_(tf_octree), cells_(cell_storage_.values()), node_boxes_(std::size_t(mesh.getNumBVs()))
+      tf_octree_(tf_octree), shapes_(shape_storage_.values()), cells_(cell_storage_.values()),
+      node_boxes_(std::size_t(mesh.getNumBVs())), boxed_nodes_(std::size_t(mesh.getNumBVs()))
   {
     fcl::relativeTransform(tf_mesh, tf_octree, R_, T_);
+    // The axis rows of every cell's moved frame (BoxedFrame's of R times the cells' identity frame).
+    for (int k = 0; k < 3; ++k) cell_axis_rows_[k] = Lanes(float(R_(k, 0)), float(R_(k, 1)), float(R_(k, 2)), 0.0f);
     // The leaf tolerance's terms (TriangleShapeLeaf::boundOffsets) that do not depend on the cell: the poses'
     // translations, the mesh's origin in the octree's frame and the mesh's extent (the root's points lie within
     // |origin|_1 + 2 reach of the mesh's frame origin).
@@ -88,8 +170,8 @@ public:
   bool root(Pair& pair)
   {
     if (!octree_.getRoot()) return false;
-    const fcl::AABB<S> box = octree_.getRootBV();
-    pair = Pair{0, addCell(octree_.getRoot(), box, cellShape((box.max_ - box.min_) / 2))};
+    const CellBox<S> box = rootBox();
+    pair = Pair{0, addCell(octree_.getRoot(), box, cellShape((box.max - box.min) / 2))};
     return true;
   }
   /// The root pair of a pruned descent (children() with `pruned`), moved down by skipSingleSplits; false for an
@@ -99,36 +181,50 @@ public:
   {
     const OcTreeNode* node = octree_.getRoot();
     if (!node) return false;
-    fcl::AABB<S> box = octree_.getRootBV();
+    CellBox<S> box = rootBox();
     if (!skipSingleSplits(0, node, box, unknown_cells, pruned)) return false;
-    pair = Pair{0, addCell(node, box, cellShape((box.max_ - box.min_) / 2))};
+    pair = Pair{0, addCell(node, box, cellShape((box.max - box.min) / 2))};
     return true;
   }
   Visit visit(const Pair& p) const
   {
     const BVNode& n1 = mesh_.getBV(p.b1);
-    const OcTreeNode* node = cells_[std::size_t(p.cell)].node;
-    return Visit{p.b1, p.cell, n1, isLeaf(n1), !node || !octree_.nodeHasChildren(node)};
+    return Visit{p.b1, p.cell, n1, isLeaf(n1), cells_[std::size_t(p.cell)].leaf};
   }
   S size1(const Visit& v) const { return v.n1.bv.size(); }
   S size2(const Visit& v) const { return cells_[std::size_t(v.cell)].box.size(); }
 
   const OcTreeCell<S>& cell(int i) const { return cells_[std::size_t(i)]; }
-  /// Whether the cell's box may meet the mesh's node (in the mesh's frame).
-  bool overlaps(const BVNode& n1, const OcTreeCell<S>& c) const
+  const OcTreeCellShape<S>& shape(const OcTreeCell<S>& c) const { return shapes_[std::size_t(c.shape)]; }
+  /// The cell's RS moved into the mesh's coordinates: MovedFrame(R, T, RS of the cell), whose slabs are its shape's
+  /// (shape(c).bv, measured from the cell's centre).
+  MovedFrame<S> movedFrame(const OcTreeCell<S>& c) const
   {
-    return overlap(c.moved, n1.bv, c.bv, OverlapTest::kBoxed);
+    MovedFrame<S> frame = shape(c).moved;
+    frame.origin = c.origin;
+    frame.centre = c.centre;
+    frame.offsets = c.offsets;
+    return frame;
+  }
+  /// Whether the cell's box may meet the mesh's node b1 (in the mesh's frame): the boxed test, with b1's side kept
+  /// for the query (every cell's frame has the octree's axes).
+  bool overlaps(int b1, const OcTreeCell<S>& c)
+  {
+    const BoxedNode<S>& node = boxed_nodes_.get(std::size_t(b1), [&] {
+      return BoxedNode<S>(cell_axis_rows_, mesh_.getBV(b1).bv);
+    });
+    return boxedOverlap(node, shape(c).moved, c.centre, c.offsets);
   }
   /// Whether the cell's box may meet triangle p of the mesh's leaf: the triangle against the box's nine slabs
   /// (detail::triangleOverlap). Tighter than overlaps() and far cheaper than the box-triangle test it filters.
   bool mayTouch(const BVNode& leaf1, const std::array<fcl::Vector3<S>, 3>& p, const OcTreeCell<S>& c) const
   {
-    return triangleOverlap(p.data(), leaf1.bv, c.moved, c.bv);
+    return triangleOverlap(p.data(), leaf1.bv, movedFrame(c), shape(c).bv);
   }
   /// The cell as FCL's leaf tests see it: a box at the octree's pose.
   void worldBox(const OcTreeCell<S>& c, fcl::Box<S>& box, fcl::Transform3<S>& box_tf) const
   {
-    fcl::constructBox(c.box, tf_octree_, box, box_tf);
+    fcl::constructBox(c.box.aabb(), tf_octree_, box, box_tf);
   }
   std::array<fcl::Vector3<S>, 3> triangle(const BVNode& leaf1) const
   {
@@ -158,9 +254,9 @@ public:
     }
     // Copied: adding cells may move cells_.
     const OcTreeNode* node = cells_[std::size_t(v.cell)].node;
-    const fcl::AABB<S> box = cells_[std::size_t(v.cell)].box;
+    const CellBox<S> box = cells_[std::size_t(v.cell)].box;
     const OcTreeNode* child_nodes[8];
-    fcl::AABB<S> child_boxes[8];
+    CellBox<S> child_boxes[8];
     bool moved[8];
     fcl::Vector3<S> half = fcl::Vector3<S>::Zero();  // of the children not moved down
     bool any_in_place = false;
@@ -169,7 +265,7 @@ public:
     {
       const bool exists = octree_.nodeChildExists(node, i);
       if (!exists && !unknown_cells) continue;
-      fcl::computeChildBV(box, i, child_boxes[n]);
+      child_boxes[n] = box.child(i);
       child_nodes[n] = exists ? octree_.getNodeChild(node, i) : nullptr;
       moved[n] = false;
       if (pruned)
@@ -181,17 +277,17 @@ public:
       }
       if (!moved[n])
       {
-        half = half.cwiseMax((child_boxes[n].max_ - child_boxes[n].min_) / 2);
+        half = half.cwiseMax((child_boxes[n].max - child_boxes[n].min) / 2);
         any_in_place = true;
       }
       ++n;
     }
     // The children differ in size by rounding only: one shape, the largest, serves them all; a child moved down
     // has its own.
-    const CellShape* shape = any_in_place ? &cellShape(half) : nullptr;
+    const int shape = any_in_place ? cellShape(half) : -1;
     for (int i = 0; i < n; ++i)
     {
-      const CellShape& own = moved[i] ? cellShape((child_boxes[i].max_ - child_boxes[i].min_) / 2) : *shape;
+      const int own = moved[i] ? cellShape((child_boxes[i].max - child_boxes[i].min) / 2) : shape;
       out[i] = Pair{v.b1, addCell(child_nodes[i], child_boxes[i], own)};
     }
     return n;
@@ -229,22 +325,22 @@ private:
   /// mesh node b (splitsFirst) and keep one child of it, an existing one (every other child, of those children()
   /// counts, boxesApart from b), and `pruned` keeps every node it leaves. The pairs skipped are those the descent
   /// would only have tested with overlaps(), which never prunes a pair that the leaf test reports, and the cell
-  /// reached is the one the descent would reach (the same box, by the same computeChildBV steps): the same pairs
+  /// reached is the one the descent would reach (the same box, by the same child-box steps): the same pairs
   /// report, in the same order. False where `pruned` prunes a node on the way (nothing below it reports).
   template <typename Pruned>
-  bool skipSingleSplits(int b, const OcTreeNode*& node, fcl::AABB<S>& box, bool unknown_cells, const Pruned& pruned)
+  bool skipSingleSplits(int b, const OcTreeNode*& node, CellBox<S>& box, bool unknown_cells, const Pruned& pruned)
   {
     const BVNode& n1 = mesh_.getBV(b);
     for (;;)
     {
       if (!octree_.nodeHasChildren(node) || (!isLeaf(n1) && n1.bv.size() > box.size())) return true;
       int kept = -1, num_kept = 0;
-      fcl::AABB<S> kept_box, child_box;
+      CellBox<S> kept_box = box;  // set when a child is kept
       for (unsigned int i = 0; i < 8 && num_kept < 2; ++i)
       {
         const bool exists = octree_.nodeChildExists(node, i);
         if (!exists && !unknown_cells) continue;
-        fcl::computeChildBV(box, i, child_box);
+        const CellBox<S> child_box = box.child(i);
         if (boxesApart(b, child_box)) continue;
         ++num_kept;
         kept = exists ? int(i) : -1;
@@ -260,11 +356,11 @@ private:
   /// rounding bound of a pair test of the two (pairRoundingBound of the node's, the cell's and the leaf tolerance's
   /// offsets, as addCell's, and of both reaches): then the RS test of the pair, and every leaf test below it,
   /// would find them apart as well.
-  bool boxesApart(int b, const fcl::AABB<S>& box)
+  bool boxesApart(int b, const CellBox<S>& box)
   {
     const NodeBox& node = nodeBox(b);
-    const fcl::Vector3<S> half = (box.max_ - box.min_) / 2;
-    const fcl::Vector3<S> centre = box.center();
+    const fcl::Vector3<S> half = (box.max - box.min) / 2;
+    const fcl::Vector3<S> centre = box.centre();
     const S h = half.maxCoeff();
     const S tol = pairRoundingBound<S>(node.offsets + cellOffsets(centre, h), node.reach + h);
     return (((centre - node.centre).cwiseAbs() - half - node.half).array() > tol).any();
@@ -275,31 +371,14 @@ private:
     return leaf_offsets_ + 3 * (c.template lpNorm<1>() + 3 * h) + 6 * h;
   }
 
-  /// A cell's box at the octree's origin, half extents `half`: its RS and that RS moved into the mesh's frame,
-  /// computed once for the cells of a split (addCell moves both to each cell's centre).
-  struct CellShape
+  /// A shape for cells of half extents `half`: one this query made before when it fits them (the cells of one depth
+  /// differ in size by rounding only), else a new one. A query meets a few shapes per depth of the octree.
+  int cellShape(const fcl::Vector3<S>& half)
   {
-    CellShape(const OcTreeMeshQuery& query, const fcl::Vector3<S>& half)
-      : bv(symmetricShapeRS<S>(fcl::Transform3<S>::Identity(),
-                               [&](const fcl::Vector3<S>& dir) { return dir.cwiseAbs().dot(half); })),
-        moved(query.R_, query.T_, bv), half(half), reach(half.maxCoeff())
-    {
-    }
-    RS<S> bv;
-    BoxedFrame<S> moved;
-    fcl::Vector3<S> half;
-    S reach;
-  };
-  /// A shape for cells of half extents `half`: one made before when it covers them and is at most a millionth
-  /// larger (the cells of one depth differ in size by rounding only; a larger shape only prunes a little less),
-  /// else a new one. A query meets a few shapes per depth of the octree.
-  const CellShape& cellShape(const fcl::Vector3<S>& half)
-  {
-    for (const CellShape& shape : shapes_)
-      if ((shape.half.array() >= half.array()).all() && (shape.half.array() <= half.array() * S(1 + 1e-6)).all())
-        return shape;
-    shapes_.emplace_back(*this, half);
-    return shapes_.back();
+    for (std::size_t i = 0; i < shapes_.size(); ++i)
+      if (OcTreeCellShape<S>::fits(shapes_[i].half, half)) return int(i);
+    shapes_.emplace_back(R_, T_, half);
+    return int(shapes_.size() - 1);
   }
 
   /// The cell of node with box `box` (shape's size or smaller), its RS the shape at the box's centre: the box's
@@ -309,13 +388,20 @@ private:
   /// |box pose's translation|_1 <= |t_octree|_1 + sqrt(3) |c'|_1 and |mesh in the box's frame|_1 <=
   /// |mesh in the octree's frame|_1 + |c'|_1, with |c'|_1 <= |c|_1 + 3 h and h' <= h; so that no test of the
   /// cell prunes a triangle the leaf test reports.
-  int addCell(const OcTreeNode* node, const fcl::AABB<S>& box, const CellShape& shape)
+  int addCell(const OcTreeNode* node, const CellBox<S>& box, int shape)
   {
-    OcTreeCell<S> cell{node, box, shape.bv, shape.moved};
-    cell.bv.origin = box.center();
-    cell.moved.moveOrigin(R_, T_, cell.bv.origin, cellOffsets(cell.bv.origin, shape.reach));
-    cells_.push_back(cell);
+    const fcl::Vector3<S> centre = box.centre();
+    MovedFrame<S> moved = shapes_[std::size_t(shape)].moved;
+    moved.moveOrigin(R_, T_, centre, cellOffsets(centre, shapes_[std::size_t(shape)].reach));
+    const bool leaf = !node || !octree_.nodeHasChildren(node);
+    cells_.push_back(OcTreeCell<S>{node, leaf, box, shape, moved.origin, moved.centre, moved.offsets});
     return int(cells_.size() - 1);
+  }
+  /// The octree's root box (fcl::OcTree::getRootBV).
+  CellBox<S> rootBox() const
+  {
+    const fcl::AABB<S> box = octree_.getRootBV();
+    return CellBox<S>{box.min_, box.max_};
   }
 
   const fcl::BVHModel<RS<S>>& mesh_;
@@ -325,10 +411,13 @@ private:
   fcl::Matrix3<S> R_;  ///< the octree's frame in the mesh's: x_mesh = R x_octree + T
   fcl::Vector3<S> T_;
   S leaf_offsets_;  ///< the leaf tolerance's terms common to every cell
-  std::deque<CellShape> shapes_;  ///< cellShape's (a deque: references stay valid as it grows)
+  Lanes cell_axis_rows_[3];        ///< every cell's BoxedFrame::axis_rows
+  PerQueryVector<OcTreeCellShape<S>> shape_storage_;
+  std::vector<OcTreeCellShape<S>>& shapes_;  ///< cellShape's
   PerQueryVector<OcTreeCell<S>> cell_storage_;
   std::vector<OcTreeCell<S>>& cells_;  ///< cell_storage_'s
   PerQueryTable<NodeBox> node_boxes_;
+  PerQueryTable<BoxedNode<S>> boxed_nodes_;  ///< overlaps()' side of each mesh node
 };
 
 /// The descent policy of octree-mesh collision (descendDepthFirst), FCL's OcTreeMeshIntersectRecurse: a pair is
@@ -344,17 +433,24 @@ public:
   using typename Base::Pair;
   using typename Base::Visit;
   using typename Base::OcTreeNode;
-  using Base::Base;
+
+  OcTreeMeshCollisionDescent(const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<S>& tf_mesh,
+                             const fcl::OcTree<S>& octree, const fcl::Transform3<S>& tf_octree, const Solver& solver,
+                             const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+    : Base(mesh, tf_mesh, octree, tf_octree, solver, request, result), mesh_free_(mesh.isFree()),
+      mesh_uncertain_(mesh.isUncertain())
+  {
+  }
 
   /// The root pair (prunedRoot), or false when nothing can be reported.
   bool root(Pair& pair)
   {
     return Base::prunedRoot(pair, unknownCells(), [this](const OcTreeNode* node) { return pruned(node); });
   }
-  bool nodeApart(const Visit& v) const
+  bool nodeApart(const Visit& v)
   {
     const OcTreeCell<S>& c = this->cell(v.cell);
-    return (c.node && pruned(c.node)) || !this->overlaps(v.n1, c);
+    return (c.node && pruned(c.node)) || !this->overlaps(v.b1, c);
   }
   bool leafTest(const Visit& v)
   {
@@ -389,11 +485,13 @@ private:
   /// uncertain while no cost is asked.
   bool pruned(const OcTreeNode* node) const
   {
-    if (this->octree().isNodeFree(node) || this->mesh().isFree()) return true;
-    return (this->octree().isNodeUncertain(node) || this->mesh().isUncertain()) && !this->request_.enable_cost;
+    if (mesh_free_ || this->octree().isNodeFree(node)) return true;
+    return !this->request_.enable_cost && (mesh_uncertain_ || this->octree().isNodeUncertain(node));
   }
   /// Whether cells the octree does not store are visited (for their cost).
-  bool unknownCells() const { return this->request_.enable_cost && !this->mesh().isFree(); }
+  bool unknownCells() const { return this->request_.enable_cost && !mesh_free_; }
+
+  bool mesh_free_, mesh_uncertain_;  ///< the mesh's occupancy, read once per query
 
   /// The leaf test of mesh-shape queries (TriangleShapeLeaf::meets) of the cell's box at the octree's pose and
   /// the leaf's triangle, behind the triangle filter; contact (when given) receives FCL's contact, with position,
@@ -455,7 +553,8 @@ public:
   {
     const OcTreeCell<S>& c = this->cell(p.cell);
     if (!this->octree().isNodeOccupied(c.node)) return std::numeric_limits<S>::max();
-    return distanceLowerBound(c.moved, this->mesh().getBV(p.b1).bv, c.bv, this->result_.min_distance);
+    return distanceLowerBound(this->movedFrame(c), this->mesh().getBV(p.b1).bv, this->shape(c).bv,
+                              this->result_.min_distance);
   }
   /// As FCL's distance traversal nodes, with the request's relative and absolute error.
   bool canStop(S bound) const
