@@ -284,10 +284,10 @@ public:
     }
     // The children differ in size by rounding only: one shape, the largest, serves them all; a child moved down
     // has its own.
-    const int shape = any_in_place ? cellShape(half) : -1;
+    const int shared_shape = any_in_place ? cellShape(half) : -1;
     for (int i = 0; i < n; ++i)
     {
-      const int own = moved[i] ? cellShape((child_boxes[i].max - child_boxes[i].min) / 2) : shape;
+      const int own = moved[i] ? cellShape((child_boxes[i].max - child_boxes[i].min) / 2) : shared_shape;
       out[i] = Pair{v.b1, addCell(child_nodes[i], child_boxes[i], own)};
     }
     return n;
