@@ -233,8 +233,9 @@ public:
   /// FCL's index of a cell in its results: the node's offset from the root node.
   int cellId(const OcTreeCell<S>& c) const { return int(c.node - octree_.getRoot()); }
 
-  /// The children of the pair's mesh node (first) or cell, in FCL's order; a missing child of a cell is visited
-  /// as an unknown cell when `unknown_cells` (cost requested and the mesh not free), else skipped. With `pruned`
+  /// The children of the pair's mesh node (first) or cell, in FCL's order, or nearest first with `pruned`
+  /// (collision, for an early first contact); a missing child of a cell is visited as an unknown cell when
+  /// `unknown_cells` (cost requested and the mesh not free), else skipped. With `pruned`
   /// (collision: the policy's test of a cell's node, not of its box), a cell's children whose boxes miss the mesh
   /// node's principal box are left out before they are made cells (boxesApart: most of a split's eight are, and a
   /// cell costs more than that test), and each other child is moved down by skipSingleSplits.
@@ -250,6 +251,11 @@ public:
     {
       out[0] = Pair{leftChild(v.n1), v.cell};
       out[1] = Pair{rightChild(v.n1), v.cell};
+      // First contact: the child nearer the cell first (box centres, the mesh's frame).
+      const fcl::Vector3<S>& towards = cells_[std::size_t(v.cell)].centre;
+      if (pruned && (mesh_.getBV(out[1].b1).bv.center() - towards).squaredNorm() <
+                        (mesh_.getBV(out[0].b1).bv.center() - towards).squaredNorm())
+        std::swap(out[0], out[1]);
       return 2;
     }
     // Copied: adding cells may move cells_.
@@ -289,6 +295,19 @@ public:
     {
       const int own = moved[i] ? cellShape((child_boxes[i].max - child_boxes[i].min) / 2) : shared_shape;
       out[i] = Pair{v.b1, addCell(child_nodes[i], child_boxes[i], own)};
+    }
+    if (pruned)
+    {
+      // First contact comes sooner from the cells nearest the mesh node's box centre: visited in that order.
+      const fcl::Vector3<S>& towards = nodeBox(v.b1).centre;
+      S key[8];
+      for (int i = 0; i < n; ++i) key[i] = (child_boxes[i].centre() - towards).squaredNorm();
+      for (int i = 1; i < n; ++i)
+        for (int j = i; j > 0 && key[j] < key[j - 1]; --j)
+        {
+          std::swap(key[j], key[j - 1]);
+          std::swap(out[j], out[j - 1]);
+        }
     }
     return n;
   }
