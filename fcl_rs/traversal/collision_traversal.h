@@ -97,9 +97,6 @@ bool initialize(MeshCollisionTraversalNodeRS<S>& node, const fcl::BVHModel<RS<S>
 /// environment against a robot; docs/kernel.md).
 constexpr int kTriangleTestMaxSizeRatio = 4;
 
-/// Requests for at most this many contacts descend into the nearer child first (collideTrees).
-constexpr std::size_t kNearerFirstMaxContacts = 16;
-
 namespace detail {
 
 /// The descent policy of mesh-mesh collision (descendDepthFirst).
@@ -126,7 +123,7 @@ public:
 
   explicit MeshCollisionDescent(Node& node)
     : Base(*node.model1, *node.model2), node_(node), moved_(node.R, node.T, *node.model2, node.world_offsets),
-      nearer_first_(!node.request.enable_cost && node.request.num_max_contacts <= kNearerFirstMaxContacts)
+      nearer_first_(visitsNearerFirst(node.request))
   {
   }
   bool leafTest(const Visit& v)

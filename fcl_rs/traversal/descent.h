@@ -19,6 +19,21 @@ struct DescentConfig
   std::size_t reserve = 128;
 };
 
+}  // namespace detail
+
+/// Requests for at most this many contacts descend into the nearer child first (collideTrees, the octree).
+constexpr std::size_t kNearerFirstMaxContacts = 16;
+
+namespace detail {
+
+/// Whether a collision request visits the nearer children first: it stops after a few contacts and asks no cost
+/// (an exhaustive request visits every overlapping pair in any order, and ordering would only cost it).
+template <typename Request>
+bool visitsNearerFirst(const Request& request)
+{
+  return !request.enable_cost && request.num_max_contacts <= kNearerFirstMaxContacts;
+}
+
 /// FCL's split rule (firstOverSecond): the first tree's node is split unless it is a leaf, or the second's is
 /// larger (and not a leaf). Sizes are asked only when both nodes are inner ones.
 template <typename Policy>

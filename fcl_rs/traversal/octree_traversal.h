@@ -154,8 +154,6 @@ public:
       node_boxes_(std::size_t(mesh.getNumBVs())), boxed_nodes_(std::size_t(mesh.getNumBVs()))
   {
     fcl::relativeTransform(tf_mesh, tf_octree, R_, T_);
-    // The axis rows of every cell's moved frame (BoxedFrame's of R times the cells' identity frame).
-    for (int k = 0; k < 3; ++k) cell_axis_rows_[k] = Lanes(float(R_(k, 0)), float(R_(k, 1)), float(R_(k, 2)), 0.0f);
     // The leaf tolerance's terms (TriangleShapeLeaf::boundOffsets) that do not depend on the cell: the poses'
     // translations, the mesh's origin in the octree's frame and the mesh's extent (the root's points lie within
     // |origin|_1 + 2 reach of the mesh's frame origin).
@@ -207,13 +205,14 @@ public:
     return frame;
   }
   /// Whether the cell's box may meet the mesh's node b1 (in the mesh's frame): the boxed test, with b1's side kept
-  /// for the query (every cell's frame has the octree's axes).
+  /// for the query (every cell's frame, whatever its shape, has the octree's axes: the same axis rows).
   bool overlaps(int b1, const OcTreeCell<S>& c)
   {
+    const BoxedFrame<S>& moved = shape(c).moved;
     const BoxedNode<S>& node = boxed_nodes_.get(std::size_t(b1), [&] {
-      return BoxedNode<S>(cell_axis_rows_, mesh_.getBV(b1).bv);
+      return BoxedNode<S>(moved.axis_rows, mesh_.getBV(b1).bv);
     });
-    return boxedOverlap(node, shape(c).moved, c.centre, c.offsets);
+    return boxedOverlap(node, moved, c.centre, c.offsets);
   }
   /// Whether the cell's box may meet triangle p of the mesh's leaf: the triangle against the box's nine slabs
   /// (detail::triangleOverlap). Tighter than overlaps() and far cheaper than the box-triangle test it filters.
@@ -233,8 +232,8 @@ public:
   /// FCL's index of a cell in its results: the node's offset from the root node.
   int cellId(const OcTreeCell<S>& c) const { return int(c.node - octree_.getRoot()); }
 
-  /// The children of the pair's mesh node (first) or cell, in FCL's order, or nearest first with `pruned`
-  /// (collision, for an early first contact); a missing child of a cell is visited as an unknown cell when
+  /// The children of the pair's mesh node (first) or cell, in FCL's order, or nearest first with `nearer_first`
+  /// (visitsNearerFirst: an early first contact); a missing child of a cell is visited as an unknown cell when
   /// `unknown_cells` (cost requested and the mesh not free), else skipped. With `pruned`
   /// (collision: the policy's test of a cell's node, not of its box), a cell's children whose boxes miss the mesh
   /// node's principal box are left out before they are made cells (boxesApart: most of a split's eight are, and a
@@ -245,15 +244,15 @@ public:
     bool operator()(const OcTreeNode*) const { return false; }
   };
   template <typename Pruned>
-  int children(const Visit& v, bool first, Pair* out, bool unknown_cells, const Pruned* pruned)
+  int children(const Visit& v, bool first, Pair* out, bool unknown_cells, const Pruned* pruned, bool nearer_first)
   {
     if (first)
     {
       out[0] = Pair{leftChild(v.n1), v.cell};
       out[1] = Pair{rightChild(v.n1), v.cell};
-      // First contact: the child nearer the cell first (box centres, the mesh's frame).
+      // The child nearer the cell first (box centres, the mesh's frame).
       const fcl::Vector3<S>& towards = cells_[std::size_t(v.cell)].centre;
-      if (pruned && (mesh_.getBV(out[1].b1).bv.center() - towards).squaredNorm() <
+      if (nearer_first && (mesh_.getBV(out[1].b1).bv.center() - towards).squaredNorm() <
                         (mesh_.getBV(out[0].b1).bv.center() - towards).squaredNorm())
         std::swap(out[0], out[1]);
       return 2;
@@ -296,9 +295,9 @@ public:
       const int own = moved[i] ? cellShape((child_boxes[i].max - child_boxes[i].min) / 2) : shared_shape;
       out[i] = Pair{v.b1, addCell(child_nodes[i], child_boxes[i], own)};
     }
-    if (pruned)
+    if (nearer_first)
     {
-      // First contact comes sooner from the cells nearest the mesh node's box centre: visited in that order.
+      // The cells nearest the mesh node's box centre first.
       const fcl::Vector3<S>& towards = nodeBox(v.b1).centre;
       S key[8];
       for (int i = 0; i < n; ++i) key[i] = (child_boxes[i].centre() - towards).squaredNorm();
@@ -430,7 +429,6 @@ private:
   fcl::Matrix3<S> R_;  ///< the octree's frame in the mesh's: x_mesh = R x_octree + T
   fcl::Vector3<S> T_;
   S leaf_offsets_;  ///< the leaf tolerance's terms common to every cell
-  Lanes cell_axis_rows_[3];        ///< every cell's BoxedFrame::axis_rows
   PerQueryVector<OcTreeCellShape<S>> shape_storage_;
   std::vector<OcTreeCellShape<S>>& shapes_;  ///< cellShape's
   PerQueryVector<OcTreeCell<S>> cell_storage_;
@@ -457,7 +455,7 @@ public:
                              const fcl::OcTree<S>& octree, const fcl::Transform3<S>& tf_octree, const Solver& solver,
                              const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
     : Base(mesh, tf_mesh, octree, tf_octree, solver, request, result), mesh_free_(mesh.isFree()),
-      mesh_uncertain_(mesh.isUncertain())
+      mesh_uncertain_(mesh.isUncertain()), nearer_first_(visitsNearerFirst(request))
   {
   }
 
@@ -496,7 +494,7 @@ public:
   int children(const Visit& v, bool first, Pair* out)
   {
     const auto pruned_node = [this](const OcTreeNode* node) { return pruned(node); };
-    return Base::children(v, first, out, unknownCells(), &pruned_node);
+    return Base::children(v, first, out, unknownCells(), &pruned_node, nearer_first_);
   }
 
 private:
@@ -511,6 +509,7 @@ private:
   bool unknownCells() const { return this->request_.enable_cost && !mesh_free_; }
 
   bool mesh_free_, mesh_uncertain_;  ///< the mesh's occupancy, read once per query
+  bool nearer_first_;
 
   /// The leaf test of mesh-shape queries (TriangleShapeLeaf::meets) of the cell's box at the octree's pose and
   /// the leaf's triangle, behind the triangle filter; contact (when given) receives FCL's contact, with position,
@@ -594,7 +593,7 @@ public:
   }
   int children(const Visit& v, bool first, Pair* out)
   {
-    return Base::template children<typename Base::NothingPruned>(v, first, out, false, nullptr);
+    return Base::template children<typename Base::NothingPruned>(v, first, out, false, nullptr, false);
   }
 };
 
