@@ -114,25 +114,38 @@ struct MovedFrame
   /// Uninitialised, for arrays filled as a traversal reaches their nodes.
   MovedFrame() = default;
   /// world_offsets: |t1|_1 + |t2|_1 of the query's poses (pairRoundingBound), 0 without poses.
-  MovedFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2, S world_offsets = 0) : box(b2)
+  MovedFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2, S world_offsets = 0)
+    : box(b2), reach(box.reach())
+  {
+    move(R, T, b2, world_offsets);
+  }
+  /// Sets the parts that depend on the motion (axis, origin, centre, offsets) to those of b2 moved by (R, T), in a
+  /// frame already made for b2 (box and reach kept).
+  void move(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2, S world_offsets = 0)
   {
     const fcl::Vector3<S> o2 = R * b2.origin;
     axis.noalias() = R.lazyProduct(b2.axes());
     origin = o2 + T;
     centre.noalias() = axis * box.c + origin;
     offsets = o2.template lpNorm<1>() + T.template lpNorm<1>() + world_offsets;
-    reach = box.reach();
   }
-  /// This frame made the frame of b2 with its origin moved to b2_origin (axes and slabs unchanged): what the
-  /// constructor computes, only the parts that depend on the origin (the octree's cells of a split, which share
-  /// their shape).
-  void moveOrigin(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const fcl::Vector3<S>& b2_origin,
-                  S world_offsets)
+  /// The parts of this frame that depend on b2's origin (origin, centre, offsets), as the constructor computes
+  /// them for b2 with its origin at b2_origin (axes and slabs unchanged): the octree's cells of a split share
+  /// their shape and differ in these only.
+  struct OriginParts
+  {
+    fcl::Vector3<S> origin, centre;
+    S offsets;
+  };
+  OriginParts movedOrigin(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const fcl::Vector3<S>& b2_origin,
+                          S world_offsets) const
   {
     const fcl::Vector3<S> o2 = R * b2_origin;
-    origin = o2 + T;
-    centre.noalias() = axis * box.c + origin;
-    offsets = o2.template lpNorm<1>() + T.template lpNorm<1>() + world_offsets;
+    OriginParts parts;
+    parts.origin = o2 + T;
+    parts.centre.noalias() = axis * box.c + parts.origin;
+    parts.offsets = o2.template lpNorm<1>() + T.template lpNorm<1>() + world_offsets;
+    return parts;
   }
   fcl::Matrix3<S> axis;    ///< R A2
   fcl::Vector3<S> origin;  ///< R o2 + T
@@ -151,9 +164,8 @@ struct BoxedFrame : MovedFrame<S>
   BoxedFrame(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2, S world_offsets = 0)
     : MovedFrame<S>(R, T, b2, world_offsets)
   {
-    const fcl::Matrix3<S>& axis = this->axis;
+    setAxisRows();
     const Box<S>& box = this->box;
-    for (int k = 0; k < 3; ++k) axis_rows[k] = Lanes(float(axis(k, 0)), float(axis(k, 1)), float(axis(k, 2)), 0.0f);
     half_extents = Lanes(float(box.h[0]), float(box.h[1]), float(box.h[2]), 0.0f);
     Lanes lo[2], hi[2], centre_diagonal[2];
     diagonalSlabs(b2, lo, hi);
@@ -165,11 +177,24 @@ struct BoxedFrame : MovedFrame<S>
       diagonal_half[h] = (hi[h] - lo[h]) * scale;
     }
   }
+  /// MovedFrame::move, in a frame made for b2 by any motion: the lanes of b2's box and slabs do not depend on it.
+  void move(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2, S world_offsets = 0)
+  {
+    MovedFrame<S>::move(R, T, b2, world_offsets);
+    setAxisRows();
+  }
   /// The rows of axis, box.h, and b2's six diagonal slabs from the box centre, times sqrt(2) (the middle and the
   /// half width of each interval, in diagonalLanes' order).
   Lanes axis_rows[3];
   Lanes half_extents;
   Lanes diagonal_mid[2], diagonal_half[2];
+
+private:
+  void setAxisRows()
+  {
+    const fcl::Matrix3<S>& axis = this->axis;
+    for (int k = 0; k < 3; ++k) axis_rows[k] = Lanes(float(axis(k, 0)), float(axis(k, 1)), float(axis(k, 2)), 0.0f);
+  }
 };
 
 /// The pair kernel: b2 expressed in b1's frame (y1 = M y2 + t), both principal boxes, b2's box centre in b1's

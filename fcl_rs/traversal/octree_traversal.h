@@ -44,16 +44,16 @@ struct CellBox
   /// As fcl::AABB::center and size.
   fcl::Vector3<S> centre() const { return (min + max) * 0.5; }
   S size() const { return (max - min).squaredNorm(); }
-  /// Child i's box, as fcl::computeChildBV computes it (bit k of i set: the upper half along axis k).
-  CellBox child(unsigned int i) const
+  /// Child i's box, as fcl::computeChildBV computes it (bit k of i set: the upper half along axis k), given
+  /// this box's centre() (a split computes it once for its eight children).
+  CellBox child(unsigned int i, const fcl::Vector3<S>& mid) const
   {
     CellBox c;
     for (int k = 0; k < 3; ++k)
     {
-      const S mid = (min[k] + max[k]) * 0.5;
       const bool upper = (i >> k) & 1;
-      c.min[k] = upper ? mid : min[k];
-      c.max[k] = upper ? max[k] : mid;
+      c.min[k] = upper ? mid[k] : min[k];
+      c.max[k] = upper ? max[k] : mid[k];
     }
     return c;
   }
@@ -84,25 +84,34 @@ struct OcTreeCellShape
   {
     return (made.array() >= half.array()).all() && (made.array() <= half.array() * S(1 + 1e-6)).all();
   }
-  using MadeBox = std::pair<fcl::Vector3<S>, RS<S>>;
-  OcTreeCellShape(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const MadeBox& box)
-    : bv(box.second), moved(R, T, bv), half(box.first), reach(half.maxCoeff())
+  /// A box's half extents, its RS and that RS's boxed frame (at the identity motion: a query moves it).
+  struct MadeBox
   {
+    fcl::Vector3<S> half;
+    RS<S> bv;
+    BoxedFrame<S> frame;
+  };
+  OcTreeCellShape(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const MadeBox& box)
+    : bv(box.bv), moved(box.frame), half(box.half), reach(half.maxCoeff())
+  {
+    moved.move(R, T, bv);
   }
-  /// The RS of a box (symmetricShapeRS) that fits cells of half extents `half`. Queries on an octree meet the same
-  /// few cell sizes (one per depth) again and again, so each thread keeps the last boxes it made.
-  static MadeBox boxRS(const fcl::Vector3<S>& half)
+  /// The RS of a box (symmetricShapeRS) that fits cells of half extents `half`, with its boxed frame. Queries on
+  /// an octree meet the same few cell sizes (one per depth) again and again, so each thread keeps the last boxes it
+  /// made.
+  static const MadeBox& boxRS(const fcl::Vector3<S>& half)
   {
     static thread_local std::vector<MadeBox> made;
     for (const MadeBox& box : made)
-      if (fits(box.first, half)) return box;
+      if (fits(box.half, half)) return box;
     constexpr std::size_t kKept = 64;  // a few octrees' depths, and their rounding variants in float
     if (made.size() == kKept) made.clear();
     // Enlarged by a few float ulps: covers the rounding of the other cells of the depth.
     const fcl::Vector3<S> enlarged = half * S(1 + 4e-7);
-    made.emplace_back(enlarged, symmetricShapeRS<S>(fcl::Transform3<S>::Identity(), [&](const fcl::Vector3<S>& dir) {
-                        return dir.cwiseAbs().dot(enlarged);
-                      }));
+    const RS<S> bv = symmetricShapeRS<S>(fcl::Transform3<S>::Identity(), [&](const fcl::Vector3<S>& dir) {
+      return dir.cwiseAbs().dot(enlarged);
+    });
+    made.push_back(MadeBox{enlarged, bv, BoxedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv)});
     return made.back();
   }
   RS<S> bv;
@@ -113,8 +122,8 @@ struct OcTreeCellShape
 
 /// An octree cell a traversal reached: its node (nullptr: a cell the octree does not store, visited only for the
 /// cost of unknown space, as FCL does), whether it is a leaf (no node, or a node without children), its box in the
-/// octree's frame, its shape (an index into the query's), and the shape's RS moved to the cell (what
-/// MovedFrame::moveOrigin changes of the shape's moved frame: the origin, the box centre, the offsets).
+/// octree's frame, its shape (an index into the query's), and the shape's RS moved to the cell (the parts of the
+/// shape's moved frame that MovedFrame::movedOrigin gives: the origin, the box centre, the offsets).
 template <typename S>
 struct OcTreeCell
 {
@@ -169,7 +178,8 @@ public:
   {
     if (!octree_.getRoot()) return false;
     const CellBox<S> box = rootBox();
-    pair = Pair{0, addCell(octree_.getRoot(), box, cellShape((box.max - box.min) / 2))};
+    const OcTreeNode* node = octree_.getRoot();
+    pair = Pair{0, addCell(node, !octree_.nodeHasChildren(node), box, cellShape((box.max - box.min) / 2))};
     return true;
   }
   /// The root pair of a pruned descent (children() with `pruned`), moved down by skipSingleSplits; false for an
@@ -180,8 +190,9 @@ public:
     const OcTreeNode* node = octree_.getRoot();
     if (!node) return false;
     CellBox<S> box = rootBox();
-    if (!skipSingleSplits(0, node, box, unknown_cells, pruned)) return false;
-    pair = Pair{0, addCell(node, box, cellShape((box.max - box.min) / 2))};
+    bool leaf;
+    if (!skipSingleSplits(0, node, box, unknown_cells, pruned, leaf)) return false;
+    pair = Pair{0, addCell(node, leaf, box, cellShape((box.max - box.min) / 2))};
     return true;
   }
   Visit visit(const Pair& p) const
@@ -250,19 +261,21 @@ public:
     {
       out[0] = Pair{leftChild(v.n1), v.cell};
       out[1] = Pair{rightChild(v.n1), v.cell};
-      // The child nearer the cell first (box centres, the mesh's frame).
+      // The child whose points' mean is nearer the cell's centre first (the mesh's frame), as collideTrees orders.
       const fcl::Vector3<S>& towards = cells_[std::size_t(v.cell)].centre;
-      if (nearer_first && (mesh_.getBV(out[1].b1).bv.center() - towards).squaredNorm() <
-                        (mesh_.getBV(out[0].b1).bv.center() - towards).squaredNorm())
+      if (nearer_first && (mesh_.getBV(out[1].b1).bv.origin - towards).squaredNorm() <
+                        (mesh_.getBV(out[0].b1).bv.origin - towards).squaredNorm())
         std::swap(out[0], out[1]);
       return 2;
     }
     // Copied: adding cells may move cells_.
     const OcTreeNode* node = cells_[std::size_t(v.cell)].node;
     const CellBox<S> box = cells_[std::size_t(v.cell)].box;
+    const fcl::Vector3<S> mid = box.centre();
+    const NodeBox* mesh_node = pruned || nearer_first ? &nodeBox(v.b1) : nullptr;
     const OcTreeNode* child_nodes[8];
     CellBox<S> child_boxes[8];
-    bool moved[8];
+    bool moved[8], leaf[8];
     fcl::Vector3<S> half = fcl::Vector3<S>::Zero();  // of the children not moved down
     bool any_in_place = false;
     int n = 0;
@@ -270,16 +283,19 @@ public:
     {
       const bool exists = octree_.nodeChildExists(node, i);
       if (!exists && !unknown_cells) continue;
-      child_boxes[n] = box.child(i);
+      child_boxes[n] = box.child(i, mid);
+      if (pruned && boxesApart(*mesh_node, child_boxes[n])) continue;
       child_nodes[n] = exists ? octree_.getNodeChild(node, i) : nullptr;
       moved[n] = false;
-      if (pruned)
+      leaf[n] = !exists;
+      if (pruned && exists)
       {
-        if (boxesApart(v.b1, child_boxes[n])) continue;
         const OcTreeNode* reached = child_nodes[n];
-        if (reached && !skipSingleSplits(v.b1, child_nodes[n], child_boxes[n], unknown_cells, *pruned)) continue;
+        if (!skipSingleSplits(v.b1, child_nodes[n], child_boxes[n], unknown_cells, *pruned, leaf[n])) continue;
         moved[n] = child_nodes[n] != reached;
       }
+      else if (exists)
+        leaf[n] = !octree_.nodeHasChildren(child_nodes[n]);
       if (!moved[n])
       {
         half = half.cwiseMax((child_boxes[n].max - child_boxes[n].min) / 2);
@@ -293,12 +309,12 @@ public:
     for (int i = 0; i < n; ++i)
     {
       const int own = moved[i] ? cellShape((child_boxes[i].max - child_boxes[i].min) / 2) : shared_shape;
-      out[i] = Pair{v.b1, addCell(child_nodes[i], child_boxes[i], own)};
+      out[i] = Pair{v.b1, addCell(child_nodes[i], leaf[i], child_boxes[i], own)};
     }
     if (nearer_first)
     {
       // The cells nearest the mesh node's box centre first.
-      const fcl::Vector3<S>& towards = nodeBox(v.b1).centre;
+      const fcl::Vector3<S>& towards = mesh_node->centre;
       S key[8];
       for (int i = 0; i < n; ++i) key[i] = (child_boxes[i].centre() - towards).squaredNorm();
       for (int i = 1; i < n; ++i)
@@ -344,22 +360,27 @@ private:
   /// counts, boxesApart from b), and `pruned` keeps every node it leaves. The pairs skipped are those the descent
   /// would only have tested with overlaps(), which never prunes a pair that the leaf test reports, and the cell
   /// reached is the one the descent would reach (the same box, by the same child-box steps): the same pairs
-  /// report, in the same order. False where `pruned` prunes a node on the way (nothing below it reports).
+  /// report, in the same order. False where `pruned` prunes a node on the way (nothing below it reports); else
+  /// `leaf` says whether the node reached is a leaf (has no children).
   template <typename Pruned>
-  bool skipSingleSplits(int b, const OcTreeNode*& node, CellBox<S>& box, bool unknown_cells, const Pruned& pruned)
+  bool skipSingleSplits(int b, const OcTreeNode*& node, CellBox<S>& box, bool unknown_cells, const Pruned& pruned,
+                        bool& leaf)
   {
     const BVNode& n1 = mesh_.getBV(b);
+    const NodeBox& mesh_node = nodeBox(b);
     for (;;)
     {
-      if (!octree_.nodeHasChildren(node) || (!isLeaf(n1) && n1.bv.size() > box.size())) return true;
+      leaf = !octree_.nodeHasChildren(node);
+      if (leaf || (!isLeaf(n1) && n1.bv.size() > box.size())) return true;
       int kept = -1, num_kept = 0;
       CellBox<S> kept_box = box;  // set when a child is kept
+      const fcl::Vector3<S> mid = box.centre();
       for (unsigned int i = 0; i < 8 && num_kept < 2; ++i)
       {
         const bool exists = octree_.nodeChildExists(node, i);
         if (!exists && !unknown_cells) continue;
-        const CellBox<S> child_box = box.child(i);
-        if (boxesApart(b, child_box)) continue;
+        const CellBox<S> child_box = box.child(i, mid);
+        if (boxesApart(mesh_node, child_box)) continue;
         ++num_kept;
         kept = exists ? int(i) : -1;
         kept_box = child_box;
@@ -370,13 +391,12 @@ private:
       box = kept_box;
     }
   }
-  /// Whether the cell box `box` misses mesh node b's box along an axis of the octree's frame by more than the
+  /// Whether the cell box `box` misses a mesh node's box (`node`, nodeBox) along an axis of the octree's frame by more than the
   /// rounding bound of a pair test of the two (pairRoundingBound of the node's, the cell's and the leaf tolerance's
   /// offsets, as addCell's, and of both reaches): then the RS test of the pair, and every leaf test below it,
   /// would find them apart as well.
-  bool boxesApart(int b, const CellBox<S>& box)
+  bool boxesApart(const NodeBox& node, const CellBox<S>& box) const
   {
-    const NodeBox& node = nodeBox(b);
     const fcl::Vector3<S> half = (box.max - box.min) / 2;
     const fcl::Vector3<S> centre = box.centre();
     const S h = half.maxCoeff();
@@ -406,12 +426,11 @@ private:
   /// |box pose's translation|_1 <= |t_octree|_1 + sqrt(3) |c'|_1 and |mesh in the box's frame|_1 <=
   /// |mesh in the octree's frame|_1 + |c'|_1, with |c'|_1 <= |c|_1 + 3 h and h' <= h; so that no test of the
   /// cell prunes a triangle the leaf test reports.
-  int addCell(const OcTreeNode* node, const CellBox<S>& box, int shape)
+  int addCell(const OcTreeNode* node, bool leaf, const CellBox<S>& box, int shape)
   {
     const fcl::Vector3<S> centre = box.centre();
-    MovedFrame<S> moved = shapes_[std::size_t(shape)].moved;
-    moved.moveOrigin(R_, T_, centre, cellOffsets(centre, shapes_[std::size_t(shape)].reach));
-    const bool leaf = !node || !octree_.nodeHasChildren(node);
+    const OcTreeCellShape<S>& cell_shape = shapes_[std::size_t(shape)];
+    const auto moved = cell_shape.moved.movedOrigin(R_, T_, centre, cellOffsets(centre, cell_shape.reach));
     cells_.push_back(OcTreeCell<S>{node, leaf, box, shape, moved.origin, moved.centre, moved.offsets});
     return int(cells_.size() - 1);
   }
