@@ -1,6 +1,6 @@
 // libFuzzer target: bytes -> two poses (rigid; rigid with one entry replaced by NaN, an infinity, a huge or a
 // raw value; scaled near the tolerance; reflected; or sixteen raw values) and a request (fields valid or not) ->
-// fcl_rs::collide, distance and continuousCollide on small RS meshes and FCL shapes, float and double, through
+// fcl_rs::collide, distance and continuousCollide on small RS meshes, FCL shapes and an octomap, float and double, through
 // the geometry and the object overloads (and continuousCollide's motion overload), near the origin and far from it
 // (translations up to about 1e124 in double). Aborts when a call crashes (sanitizers, libccd's assertions), answers
 // input that this file's own check (long double, fcl_rs/validate.h's rules) calls invalid, refuses input it
@@ -17,6 +17,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <fcl/config.h>
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/capsule.h>
 #include <fcl/geometry/shape/cone.h>
@@ -28,6 +29,11 @@
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include "fcl_rs/fcl_rs.h"
+#if FCL_HAVE_OCTOMAP
+#include <fcl/geometry/octree/octree.h>
+
+#include "fcl_rs/mesh/surface_octree.h"
+#endif
 
 namespace {
 
@@ -178,7 +184,7 @@ Verdict continuousRequest(FuzzedDataProvider& in, fcl::ContinuousCollisionReques
   return valid ? Verdict::kValid : Verdict::kInvalid;
 }
 
-/// Small meshes and every shape fcl_rs::collide pairs with RS meshes, built once per scalar.
+/// Small meshes, every shape fcl_rs::collide pairs with RS meshes and an octree, built once per scalar.
 template <typename S>
 const std::vector<std::shared_ptr<fcl::CollisionGeometry<S>>>& geometries()
 {
@@ -194,6 +200,13 @@ const std::vector<std::shared_ptr<fcl::CollisionGeometry<S>>>& geometries()
     g.push_back(std::make_shared<fcl::Ellipsoid<S>>(S(0.3), S(0.2), S(0.1)));
     g.push_back(std::make_shared<fcl::Plane<S>>(fcl::Vector3<S>(0, 0, 1), S(0)));
     g.push_back(std::make_shared<fcl::Halfspace<S>>(fcl::Vector3<S>(0, 1, 0), S(0.1)));
+#if FCL_HAVE_OCTOMAP
+    // A box's occupied surface in 0.1 cells, a free cell and one of occupancy 0.5 inside, unknown space around.
+    const auto map = fcl_rs::surfaceOcTree(fcl_rs::makeBox<double>(0.6, 0.4, 0.3), 0.1);
+    map->updateNode(octomap::point3d(0.0f, 0.0f, 0.0f), false);
+    map->updateNode(octomap::point3d(0.1f, 0.0f, 0.0f), 0.0f);  // log-odds 0
+    g.push_back(std::make_shared<fcl::OcTree<S>>(map));
+#endif
     return g;
   }();
   return all;
