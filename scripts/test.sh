@@ -1,23 +1,25 @@
 #!/usr/bin/env bash
 # Builds and runs every test, then fuzzes for a bounded time. Sets everything up first. CI runs exactly this on
 # 2 cores (its time and the budget of 35 minutes: docs/robustness.md); each stage prints its start and minutes elapsed.
-# Usage: scripts/test.sh [--quick]
-#   --quick  the Release build of everything (build/) and every CTest test there: the GoogleTest cases, tools,
-#            examples, benchmarks, Python and packaging
-#   Without --quick, every GoogleTest case is compiled and run once, with assertions and sanitizers on:
+# Usage: scripts/test.sh [--quick | --sanitizers]
+#   (none)        what CI runs: --quick, then each libFuzzer target under AddressSanitizer +
+#                 UndefinedBehaviorSanitizer (build-asan, clang -O1) for FCL_RS_FUZZ_SECONDS s (default: 120 s
+#                 divided by their number) from seed FCL_RS_FUZZ_SEED (default 1), two targets at a time
+#   --quick       the Release build of everything (build/) and every CTest test there: the GoogleTest cases, tools,
+#                 examples, benchmarks, Python and packaging
+#   --sanitizers  every GoogleTest case compiled and run with assertions and sanitizers on (about twice CI's time):
 #     build       Release: everything but the GoogleTest executables, and the CTest tests of the rest
-#     build-asan  (clang, -O1) every GoogleTest case under AddressSanitizer + UndefinedBehaviorSanitizer, then
-#                 each libFuzzer target for FCL_RS_FUZZ_SECONDS s (default: 120 s divided by their number) from seed
-#                 FCL_RS_FUZZ_SEED (default 1), two targets at a time
+#     build-asan  every GoogleTest case under AddressSanitizer + UndefinedBehaviorSanitizer, then the fuzzing
 #     build-tsan  tests/test_concurrency and tests/test_batch under ThreadSanitizer (the batch on std::threads)
 #   Details and how to run one stage alone: docs/robustness.md.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-all=1
+mode=ci
 for arg in "$@"; do
   case "$arg" in
-    --quick) all=0 ;;
-    -h | --help) sed -n '2,13p' "${BASH_SOURCE[0]}" | cut -c3-; exit 0 ;;
+    --quick) mode=quick ;;
+    --sanitizers) mode=sanitizers ;;
+    -h | --help) sed -n '2,14p' "${BASH_SOURCE[0]}" | cut -c3-; exit 0 ;;
     *) echo "scripts/test.sh: unknown option '$arg' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -25,9 +27,9 @@ done
 # Each stage's start and the minutes since the run began, so a CI log shows where the time went.
 stage() { echo "== fcl_rs: $* ($(date +%T), $((SECONDS / 60)) min $((SECONDS % 60)) s in)"; }
 
-# The full run compiles the GoogleTest cases once, in build-asan below, where they run with assertions,
+# The sanitizer run compiles the GoogleTest cases once, in build-asan below, where they run with assertions,
 # AddressSanitizer and UndefinedBehaviorSanitizer on; its Release tree builds and tests what is shipped.
-if [ "$all" = 1 ]; then
+if [ "$mode" = sanitizers ]; then
   stage "setup and Release build of all but the GoogleTest executables (build)"
   bash "$root/scripts/setup.sh" --no-unit-tests "$root/build"
   stage "Release: every CTest test of tools, examples, benchmarks, Python and packaging (build)"
@@ -41,7 +43,7 @@ fi
 awk '/^[0-9]+\/[0-9]+ Testing: / { name = $3 }
      /shared data .* is missing/ && !/^Command: / && name != done { sub(/^.*shared data/, "shared data"); print "   skipped " name ": " $0; done = name }' \
   "$root/build/Testing/Temporary/LastTest.log"
-[ "$all" = 1 ] || { stage "quick stages passed"; exit 0; }
+[ "$mode" = quick ] && { stage "quick stages passed"; exit 0; }
 
 # Test executables (test_*) of a configured build directory; only these are built there.
 test_targets() { cmake --build "$1" --target help | sed -nE 's/^(\.\.\. )?(test_[A-Za-z0-9_]+)(:.*)?$/\2/p' | sort -u; }
@@ -62,26 +64,33 @@ export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
 generator() { [ -f "$1/CMakeCache.txt" ] || echo "-GNinja"; }
 sanitized=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1")
 
-stage "AddressSanitizer + UndefinedBehaviorSanitizer: every test (build-asan)"
 asan="$root/build-asan"
+fuzz_targets=(fuzz_mesh_load fuzz_rs fuzz_triangle_intersection fuzz_mesh_shape fuzz_api)
+if [ "$mode" = ci ]; then
+  stage "AddressSanitizer + UndefinedBehaviorSanitizer: the libFuzzer targets (build-asan)"
+else
+  stage "AddressSanitizer + UndefinedBehaviorSanitizer: every test (build-asan)"
+fi
 cmake -S "$root" -B "$asan" $(generator "$asan") -DCMAKE_CXX_COMPILER=clang++ "${sanitized[@]}" -DFCL_RS_FUZZ=ON \
   -DFCL_RS_SANITIZE=address,undefined > /dev/null
-mapfile -t tests < <(test_targets "$asan")
-fuzz_targets=(fuzz_mesh_load fuzz_rs fuzz_triangle_intersection fuzz_mesh_shape fuzz_api)
+tests=()
+[ "$mode" = sanitizers ] && mapfile -t tests < <(test_targets "$asan")
 cmake --build "$asan" -j2 --target "${tests[@]}" "${fuzz_targets[@]}"
-# The GoogleTest cases (label unit); the other CTest tests run the examples and tools, not built here.
-(cd "$asan" && ctest --output-on-failure -j2 -L unit)
+if [ "$mode" = sanitizers ]; then
+  # The GoogleTest cases (label unit); the other CTest tests run the examples and tools, not built here.
+  (cd "$asan" && ctest --output-on-failure -j2 -L unit)
 
-stage "ThreadSanitizer: test_concurrency and test_batch (build-tsan)"
-# The batch runs on std::threads here (FCL_RS_BATCH_STD_THREADS): Debian's oneTBB is not instrumented, so TSan
-# would report races inside it (docs/batch.md). The Concurrency cases of both tests, and test_batch's Batch
-# cases (errors thrown on worker threads). clang, as for ASan: it compiles this tree in about two thirds of g++'s
-# CPU time (docs/robustness.md, 'CI time').
-tsan="$root/build-tsan"
-cmake -S "$root" -B "$tsan" $(generator "$tsan") -DCMAKE_CXX_COMPILER=clang++ "${sanitized[@]}" -DFCL_RS_SANITIZE=thread \
-  -DFCL_RS_BATCH_STD_THREADS=ON > /dev/null
-cmake --build "$tsan" -j2 --target test_concurrency test_batch
-(cd "$tsan" && ctest --output-on-failure -j2 -L unit -R '^(Concurrency|Batch)\.')
+  stage "ThreadSanitizer: test_concurrency and test_batch (build-tsan)"
+  # The batch runs on std::threads here (FCL_RS_BATCH_STD_THREADS): Debian's oneTBB is not instrumented, so TSan
+  # would report races inside it (docs/batch.md). The Concurrency cases of both tests, and test_batch's Batch
+  # cases (errors thrown on worker threads). clang, as for ASan: it compiles this tree in about two thirds of g++'s
+  # CPU time (docs/robustness.md, 'In CI').
+  tsan="$root/build-tsan"
+  cmake -S "$root" -B "$tsan" $(generator "$tsan") -DCMAKE_CXX_COMPILER=clang++ "${sanitized[@]}" -DFCL_RS_SANITIZE=thread \
+    -DFCL_RS_BATCH_STD_THREADS=ON > /dev/null
+  cmake --build "$tsan" -j2 --target test_concurrency test_batch
+  (cd "$tsan" && ctest --output-on-failure -j2 -L unit -R '^(Concurrency|Batch)\.')
+fi
 
 # Each target fuzzes for 120 s divided by their number (five: 24 s each), two at a time: libFuzzer runs one
 # process per target and CI has two cores, so the stage takes three rounds of 24 s.
