@@ -1,5 +1,6 @@
 // fcl_rs_bench_octree: µs per query of an RS mesh against fcl::OcTree maps (collision and distance) beside FCL's
-// OBBRSS, OBB, RSS, kIOS and AABB meshes of the same triangles against the same maps.
+// OBBRSS, OBB, RSS, kIOS and AABB meshes of the same triangles against the same maps (and Coal's OBB and OBBRSS
+// meshes against coal::OcTree maps of them, built with FCL_RS_WITH_COAL).
 
 #include "bench_common.h"
 #include "common/command_line.h"
@@ -14,6 +15,10 @@
 #include <fcl/narrowphase/distance.h>
 
 #include <fcl_rs/mesh/surface_octree.h>
+
+#ifdef FCL_RS_WITH_COAL
+#include "coal_peer.h"
+#endif
 
 #include <algorithm>
 #include <array>
@@ -39,7 +44,9 @@ struct Options
 const char* kDescription =
     "Octree maps: an RS mesh against fcl::OcTree through fcl_rs::collide and fcl_rs::distance; FCL's OBBRSS, OBB,\n"
     "RSS, kIOS and AABB meshes (the same triangles) through fcl::collide and fcl::distance (FCL's octree-mesh\n"
-    "traversal keeps the mesh in its frame for every type: no per-query rebuild). Maps: a scanned mesh\n"
+    "traversal keeps the mesh in its frame for every type: no per-query rebuild); built with FCL_RS_WITH_COAL,\n"
+    "Coal's OBB and OBBRSS meshes against coal::OcTree maps of the same octomaps (contacts off, break distance 0).\n"
+    "Maps: a scanned mesh\n"
     "(../shared/data/models/dragon.obj scaled to 1 m) with its surface sampled into --scan-cell cells, and a\n"
     "5 x 4 x 2.5 m room (walls, floor, ceiling, a table, a shelf, boxes) sampled into --room-cell cells. Query\n"
     "object: --query-mesh scaled to 0.25 m, --queries poses per map with uniform rotations, centred at uniform\n"
@@ -82,16 +89,22 @@ std::shared_ptr<octomap::OcTree> roomMap(double cell)
   return map;
 }
 
-/// One tree type of the query mesh: its geometry and whether fcl_rs or FCL answers it.
+/// One tree type of the query mesh: its geometry and whether fcl_rs or FCL answers it, or Coal's mesh and map.
 struct Type
 {
   std::string name;
   std::shared_ptr<fcl::CollisionGeometry<S>> mesh;
   bool rs;
+#ifdef FCL_RS_WITH_COAL
+  std::shared_ptr<const CoalOcTreeMesh> coal = nullptr;
+#endif
 };
 
 std::size_t collideOnce(const Type& type, const fcl::OcTree<S>& octree, const Transform3d& tf)
 {
+#ifdef FCL_RS_WITH_COAL
+  if (type.coal) return type.coal->collide(tf, 1);
+#endif
   fcl::CollisionRequest<S> request;
   fcl::CollisionResult<S> result;
   const Transform3d id = Transform3d::Identity();
@@ -101,6 +114,9 @@ std::size_t collideOnce(const Type& type, const fcl::OcTree<S>& octree, const Tr
 
 double distanceOnce(const Type& type, const fcl::OcTree<S>& octree, const Transform3d& tf)
 {
+#ifdef FCL_RS_WITH_COAL
+  if (type.coal) return type.coal->distance(tf);
+#endif
   fcl::DistanceRequest<S> request;
   fcl::DistanceResult<S> result;
   const Transform3d id = Transform3d::Identity();
@@ -139,7 +155,7 @@ void printTimes(const char* what, const std::vector<Type>& types, const std::vec
   for (std::size_t t = 0; t < types.size(); ++t)
   {
     const auto [lo, hi] = std::minmax_element(seconds[t].begin(), seconds[t].end());
-    std::printf("  %-7s %9s [%s, %s]\n", types[t].name.c_str(), timeText(1e6 * median(seconds[t])).c_str(),
+    std::printf("  %-11s %9s [%s, %s]\n", types[t].name.c_str(), timeText(1e6 * median(seconds[t])).c_str(),
                 timeText(1e6 * *lo).c_str(), timeText(1e6 * *hi).c_str());
   }
   std::vector<double> per_pass;
@@ -154,7 +170,7 @@ void benchMap(const std::string& name, const std::shared_ptr<octomap::OcTree>& m
               const Options& opt)
 {
   const fcl::OcTree<S> octree(map);
-  const std::vector<Type> types = {
+  std::vector<Type> types = {
       {"RS", fcl_rs::buildModel<fcl_rs::RSd>(query), true},
       {"OBBRSS", fcl_rs::buildModel<fcl::OBBRSS<S>>(query), false},
       {"OBB", fcl_rs::buildModel<fcl::OBB<S>>(query), false},
@@ -162,6 +178,13 @@ void benchMap(const std::string& name, const std::shared_ptr<octomap::OcTree>& m
       {"kIOS", fcl_rs::buildModel<fcl::kIOS<S>>(query), false},
       {"AABB", fcl_rs::buildModel<fcl::AABB<S>>(query), false},
   };
+#ifdef FCL_RS_WITH_COAL
+  for (const CoalBV bv : {CoalBV::kOBB, CoalBV::kOBBRSS})
+  {
+    types.push_back(
+        Type{coalName(bv), nullptr, false, std::make_shared<const CoalOcTreeMesh>(bv, map, query.vertices, query.triangles)});
+  }
+#endif
   // Pose centres near occupied cells.
   std::vector<Vector3d> occupied;
   for (auto it = map->begin_leafs(); it != map->end_leafs(); ++it)

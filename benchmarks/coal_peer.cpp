@@ -8,6 +8,7 @@
 #include <coal/collision.h>
 #include <coal/config.hh>
 #include <coal/distance.h>
+#include <coal/octree.h>
 
 #include <stdexcept>
 
@@ -91,6 +92,38 @@ double CoalMeshPair::distance(const fcl::Transform3d& tf_a, const fcl::Transform
   const coal::DistanceRequest request(/*enable_nearest_points=*/true, /*enable_signed_distance=*/true, 0, 0);
   coal::DistanceResult result;
   return coal::distance(trees_->a.get(), toCoal(tf_a), trees_->b.get(), toCoal(tf_b), request, result);
+}
+
+struct CoalOcTreeMesh::Geometries
+{
+  std::shared_ptr<coal::OcTree> octree;
+  std::shared_ptr<coal::BVHModelBase> mesh;
+};
+
+CoalOcTreeMesh::CoalOcTreeMesh(CoalBV bv, const std::shared_ptr<const octomap::OcTree>& map,
+                               const std::vector<fcl::Vector3d>& vertices, const std::vector<fcl::Triangle>& triangles)
+  : geometries_(new Geometries{std::make_shared<coal::OcTree>(map), build(bv, vertices, triangles)})
+{
+}
+
+CoalOcTreeMesh::~CoalOcTreeMesh() = default;
+
+std::size_t CoalOcTreeMesh::collide(const fcl::Transform3d& tf_mesh, std::size_t max_contacts) const
+{
+  coal::CollisionRequest request(coal::NO_REQUEST, max_contacts);
+  request.security_margin = 0;
+  request.break_distance = 0;
+  coal::CollisionResult result;
+  return coal::collide(geometries_->mesh.get(), toCoal(tf_mesh), geometries_->octree.get(), coal::Transform3s(),
+                       request, result);
+}
+
+double CoalOcTreeMesh::distance(const fcl::Transform3d& tf_mesh) const
+{
+  const coal::DistanceRequest request(/*enable_nearest_points=*/true, /*enable_signed_distance=*/true, 0, 0);
+  coal::DistanceResult result;
+  return coal::distance(geometries_->mesh.get(), toCoal(tf_mesh), geometries_->octree.get(), coal::Transform3s(),
+                        request, result);
 }
 
 }  // namespace bench

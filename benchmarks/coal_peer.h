@@ -13,6 +13,10 @@
 #include <string>
 #include <vector>
 
+namespace octomap {
+class OcTree;
+}
+
 namespace fcl_rs {
 namespace bench {
 
@@ -51,6 +55,26 @@ public:
 private:
   struct Trees;
   std::unique_ptr<Trees> trees_;
+};
+
+/// A mesh as a Coal tree of one BV type against a coal::OcTree of an octomap at the identity (COAL_HAS_OCTOMAP).
+class CoalOcTreeMesh
+{
+public:
+  CoalOcTreeMesh(CoalBV bv, const std::shared_ptr<const octomap::OcTree>& map,
+                 const std::vector<fcl::Vector3d>& vertices, const std::vector<fcl::Triangle>& triangles);
+  ~CoalOcTreeMesh();
+  CoalOcTreeMesh(const CoalOcTreeMesh&) = delete;
+  CoalOcTreeMesh& operator=(const CoalOcTreeMesh&) = delete;
+
+  /// Contacts (at most max_contacts) of the mesh at tf_mesh, asked as CoalMeshPair::collide asks.
+  std::size_t collide(const fcl::Transform3d& tf_mesh, std::size_t max_contacts) const;
+  /// Distance of the mesh at tf_mesh, asked as CoalMeshPair::distance asks.
+  double distance(const fcl::Transform3d& tf_mesh) const;
+
+private:
+  struct Geometries;
+  std::unique_ptr<Geometries> geometries_;
 };
 
 }  // namespace bench
