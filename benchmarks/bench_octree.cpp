@@ -180,10 +180,8 @@ void benchMap(const std::string& name, const std::shared_ptr<octomap::OcTree>& m
   };
 #ifdef FCL_RS_WITH_COAL
   for (const CoalBV bv : {CoalBV::kOBB, CoalBV::kOBBRSS})
-  {
-    types.push_back(
-        Type{coalName(bv), nullptr, false, std::make_shared<const CoalOcTreeMesh>(bv, map, query.vertices, query.triangles)});
-  }
+    types.push_back(Type{coalName(bv), nullptr, false,
+                         std::make_shared<const CoalOcTreeMesh>(bv, map, query.vertices, query.triangles)});
 #endif
   // Pose centres near occupied cells.
   std::vector<Vector3d> occupied;

@@ -47,6 +47,21 @@ std::shared_ptr<coal::BVHModelBase> build(CoalBV bv, const std::vector<fcl::Vect
 
 coal::Transform3s toCoal(const fcl::Transform3d& tf) { return coal::Transform3s(tf.linear(), tf.translation()); }
 
+/// The question fcl::CollisionRequest(max_contacts, enable_contact = false) asks (coal_peer.h).
+coal::CollisionRequest firstContactsRequest(std::size_t max_contacts)
+{
+  coal::CollisionRequest request(coal::NO_REQUEST, max_contacts);
+  request.security_margin = 0;
+  request.break_distance = 0;
+  return request;
+}
+
+/// Exact distance with nearest points (rel_err = abs_err = 0).
+coal::DistanceRequest exactDistanceRequest()
+{
+  return coal::DistanceRequest(/*enable_nearest_points=*/true, /*enable_signed_distance=*/true, 0, 0);
+}
+
 }  // namespace
 
 std::string coalName(CoalBV bv)
@@ -80,16 +95,14 @@ CoalMeshPair::~CoalMeshPair() = default;
 std::size_t CoalMeshPair::collide(const fcl::Transform3d& tf_a, const fcl::Transform3d& tf_b,
                                   std::size_t max_contacts) const
 {
-  coal::CollisionRequest request(coal::NO_REQUEST, max_contacts);
-  request.security_margin = 0;
-  request.break_distance = 0;
+  const coal::CollisionRequest request = firstContactsRequest(max_contacts);
   coal::CollisionResult result;
   return coal::collide(trees_->a.get(), toCoal(tf_a), trees_->b.get(), toCoal(tf_b), request, result);
 }
 
 double CoalMeshPair::distance(const fcl::Transform3d& tf_a, const fcl::Transform3d& tf_b) const
 {
-  const coal::DistanceRequest request(/*enable_nearest_points=*/true, /*enable_signed_distance=*/true, 0, 0);
+  const coal::DistanceRequest request = exactDistanceRequest();
   coal::DistanceResult result;
   return coal::distance(trees_->a.get(), toCoal(tf_a), trees_->b.get(), toCoal(tf_b), request, result);
 }
@@ -110,9 +123,7 @@ CoalOcTreeMesh::~CoalOcTreeMesh() = default;
 
 std::size_t CoalOcTreeMesh::collide(const fcl::Transform3d& tf_mesh, std::size_t max_contacts) const
 {
-  coal::CollisionRequest request(coal::NO_REQUEST, max_contacts);
-  request.security_margin = 0;
-  request.break_distance = 0;
+  const coal::CollisionRequest request = firstContactsRequest(max_contacts);
   coal::CollisionResult result;
   return coal::collide(geometries_->mesh.get(), toCoal(tf_mesh), geometries_->octree.get(), coal::Transform3s(),
                        request, result);
@@ -120,7 +131,7 @@ std::size_t CoalOcTreeMesh::collide(const fcl::Transform3d& tf_mesh, std::size_t
 
 double CoalOcTreeMesh::distance(const fcl::Transform3d& tf_mesh) const
 {
-  const coal::DistanceRequest request(/*enable_nearest_points=*/true, /*enable_signed_distance=*/true, 0, 0);
+  const coal::DistanceRequest request = exactDistanceRequest();
   coal::DistanceResult result;
   return coal::distance(geometries_->mesh.get(), toCoal(tf_mesh), geometries_->octree.get(), coal::Transform3s(),
                         request, result);

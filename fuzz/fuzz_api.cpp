@@ -1,8 +1,8 @@
 // libFuzzer target: bytes -> two poses (rigid; rigid with one entry replaced by NaN, an infinity, a huge or a
 // raw value; scaled near the tolerance; reflected; or sixteen raw values) and a request (fields valid or not) ->
-// fcl_rs::collide, distance and continuousCollide on small RS meshes, FCL shapes and an octomap, float and double, through
-// the geometry and the object overloads (and continuousCollide's motion overload), near the origin and far from it
-// (translations up to about 1e124 in double). Aborts when a call crashes (sanitizers, libccd's assertions), answers
+// fcl_rs::collide, distance and continuousCollide on small RS meshes, FCL shapes and an octomap, float and double,
+// through the geometry and the object overloads (and continuousCollide's motion overload), near the origin and far
+// from it (translations up to about 1e124 in double). Aborts when a call crashes (sanitizers, libccd's assertions), answers
 // input that this file's own check (long double, fcl_rs/validate.h's rules) calls invalid, refuses input it
 // calls valid, or returns a NaN distance for valid input.
 #include <cmath>

@@ -123,11 +123,11 @@ struct MovedFrame
   /// frame already made for b2 (box and reach kept).
   void move(const fcl::Matrix3<S>& R, const fcl::Vector3<S>& T, const RS<S>& b2, S world_offsets = 0)
   {
-    const fcl::Vector3<S> o2 = R * b2.origin;
     axis.noalias() = R.lazyProduct(b2.axes());
-    origin = o2 + T;
-    centre.noalias() = axis * box.c + origin;
-    offsets = o2.template lpNorm<1>() + T.template lpNorm<1>() + world_offsets;
+    const OriginParts parts = movedOrigin(R, T, b2.origin, world_offsets);
+    origin = parts.origin;
+    centre = parts.centre;
+    offsets = parts.offsets;
   }
   /// The parts of this frame that depend on b2's origin (origin, centre, offsets), as the constructor computes
   /// them for b2 with its origin at b2_origin (axes and slabs unchanged): the octree's cells of a split share

@@ -98,7 +98,7 @@ struct OcTreeCellShape
   }
   /// The RS of a box (symmetricShapeRS) that fits cells of half extents `half`, with its boxed frame. Queries on
   /// an octree meet the same few cell sizes (one per depth) again and again, so each thread keeps the last boxes it
-  /// made.
+  /// made; the reference is valid until the thread's next call.
   static const MadeBox& boxRS(const fcl::Vector3<S>& half)
   {
     static thread_local std::vector<MadeBox> made;
@@ -191,7 +191,7 @@ public:
     if (!node) return false;
     CellBox<S> box = rootBox();
     bool leaf;
-    if (!skipSingleSplits(0, node, box, unknown_cells, pruned, leaf)) return false;
+    if (!skipSingleSplits(0, nodeBox(0), node, box, unknown_cells, pruned, leaf)) return false;
     pair = Pair{0, addCell(node, leaf, box, cellShape((box.max - box.min) / 2))};
     return true;
   }
@@ -291,7 +291,8 @@ public:
       if (pruned && exists)
       {
         const OcTreeNode* reached = child_nodes[n];
-        if (!skipSingleSplits(v.b1, child_nodes[n], child_boxes[n], unknown_cells, *pruned, leaf[n])) continue;
+        if (!skipSingleSplits(v.b1, *mesh_node, child_nodes[n], child_boxes[n], unknown_cells, *pruned, leaf[n]))
+          continue;
         moved[n] = child_nodes[n] != reached;
       }
       else if (exists)
@@ -363,11 +364,10 @@ private:
   /// report, in the same order. False where `pruned` prunes a node on the way (nothing below it reports); else
   /// `leaf` says whether the node reached is a leaf (has no children).
   template <typename Pruned>
-  bool skipSingleSplits(int b, const OcTreeNode*& node, CellBox<S>& box, bool unknown_cells, const Pruned& pruned,
-                        bool& leaf)
+  bool skipSingleSplits(int b, const NodeBox& mesh_node, const OcTreeNode*& node, CellBox<S>& box, bool unknown_cells,
+                        const Pruned& pruned, bool& leaf)
   {
     const BVNode& n1 = mesh_.getBV(b);
-    const NodeBox& mesh_node = nodeBox(b);
     for (;;)
     {
       leaf = !octree_.nodeHasChildren(node);
@@ -391,10 +391,10 @@ private:
       box = kept_box;
     }
   }
-  /// Whether the cell box `box` misses a mesh node's box (`node`, nodeBox) along an axis of the octree's frame by more than the
-  /// rounding bound of a pair test of the two (pairRoundingBound of the node's, the cell's and the leaf tolerance's
-  /// offsets, as addCell's, and of both reaches): then the RS test of the pair, and every leaf test below it,
-  /// would find them apart as well.
+  /// Whether the cell box `box` misses a mesh node's box (`node`, nodeBox) along an axis of the octree's frame by
+  /// more than the rounding bound of a pair test of the two (pairRoundingBound of the node's, the cell's and the
+  /// leaf tolerance's offsets, as addCell's, and of both reaches): then the RS test of the pair, and every leaf test
+  /// below it, would find them apart as well.
   bool boxesApart(const NodeBox& node, const CellBox<S>& box) const
   {
     const fcl::Vector3<S> half = (box.max - box.min) / 2;
