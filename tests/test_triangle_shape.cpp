@@ -595,19 +595,94 @@ TEST(HullsLowerBound, SeededTrianglesMatchTheExactDistance)
     const double exact = fcl_rs::test::exactDistance(ta, tb);
     const Vec start = pa.translation() - pb.translation();
     const double inf = std::numeric_limits<double>::infinity();
-    const double full = fcl_rs::triangle_shape::hullsLowerBound(a, pa, b, pb, start, inf);
+    const fcl_rs::triangle_shape::HullPoints hull_a(a), hull_b(b);
+    const double full = fcl_rs::triangle_shape::hullsLowerBound(hull_a, pa, hull_b, pb, start, inf);
     EXPECT_LE(full, exact + 1e-14);
     EXPECT_GE(full, exact - 1e-9);
     if (exact > 0.01)
     {
       const double enough = 0.5 * exact;
-      const double early = fcl_rs::triangle_shape::hullsLowerBound(a, pa, b, pb, start, enough);
+      const double early = fcl_rs::triangle_shape::hullsLowerBound(hull_a, pa, hull_b, pb, start, enough);
       EXPECT_GT(early, enough);
       EXPECT_LE(early, exact + 1e-14);
       stopped_early += early < full;
     }
   }
   EXPECT_GT(stopped_early, 0);  // not vacuous: some runs stop before the end
+}
+
+/// A closed latitude-longitude surface about the origin: radius r(polar, azimuth) per point, so a constant gives
+/// a convex surface (up to the quads' diagonals) and a varying one dents it.
+template <typename Radius>
+fcl_rs::triangle_shape::HullPoints gridSurface(int rings, int segments, const Radius& radius)
+{
+  std::vector<Vec> points{Vec(0, 0, radius(0.0, 0.0)), Vec(0, 0, -radius(M_PI, 0.0))};
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j)
+    {
+      const double polar = M_PI * i / rings, azimuth = 2 * M_PI * j / segments;
+      points.push_back(radius(polar, azimuth) *
+                       Vec(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar)));
+    }
+  const auto at = [&](int ring, int j) { return std::size_t(2 + (ring - 1) * segments + (j % segments)); };
+  std::vector<std::array<std::size_t, 3>> triangles;
+  for (int j = 0; j < segments; ++j)
+  {
+    triangles.push_back({0, at(1, j), at(1, j + 1)});
+    triangles.push_back({1, at(rings - 1, j + 1), at(rings - 1, j)});
+    for (int i = 1; i + 1 < rings; ++i)
+    {
+      triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  return fcl_rs::triangle_shape::HullPoints(std::move(points), triangles);
+}
+
+/// With a surface's edges GJK walks to its support points and scans every point only where it would stop: the
+/// bound is the scanning one's (within 1e-9) and never above the distance of the closest two points, on convex
+/// surfaces and on dented ones (where walks stop at points that are not the lowest), stopped early or not.
+TEST(HullsLowerBound, WalksAlongEdgesGiveTheScannedBound)
+{
+  auto rng = fcl_rs::test::seededRng("hulls-lower-bound-walks");
+  std::uniform_real_distribution<double> u(0, 1);
+  int dented_walks = 0;
+  for (int i = 0; i < 40; ++i)
+  {
+    SCOPED_TRACE("case " + std::to_string(i));
+    const bool dented = i % 2 == 1;
+    const double r = 0.1 + 0.2 * u(rng), bumps = 2 + std::floor(4 * u(rng));
+    const auto radius = [&](double polar, double azimuth) {
+      return dented ? r * (1 + 0.3 * std::sin(bumps * polar) * std::cos(bumps * azimuth)) : r;
+    };
+    const fcl_rs::triangle_shape::HullPoints a = gridSurface(8 + i % 5, 10 + i % 7, radius), b = gridSurface(9, 12, radius);
+    ASSERT_TRUE(a.walks() && b.walks());
+    const Eigen::Isometry3d pa = fcl_rs::test::randomPose<double>(rng, 1.0), pb = fcl_rs::test::randomPose<double>(rng, 1.0);
+    const fcl_rs::triangle_shape::HullPoints scanned_a(a.points()), scanned_b(b.points());
+    double closest_points = std::numeric_limits<double>::infinity();
+    for (const Vec& x : a.points())
+      for (const Vec& y : b.points()) closest_points = std::min(closest_points, (pa * x - pb * y).norm());
+    const Vec start = pa.translation() - pb.translation();
+    const double inf = std::numeric_limits<double>::infinity();
+    const double scanned = fcl_rs::triangle_shape::hullsLowerBound(scanned_a, pa, scanned_b, pb, start, inf);
+    const double walked = fcl_rs::triangle_shape::hullsLowerBound(a, pa, b, pb, start, inf);
+    EXPECT_NEAR(walked, scanned, 1e-9);
+    EXPECT_LE(walked, closest_points + 1e-14);
+    if (scanned > 0.01)
+    {
+      const double enough = 0.5 * scanned;
+      const double early = fcl_rs::triangle_shape::hullsLowerBound(a, pa, b, pb, start, enough);
+      EXPECT_GT(early, enough);
+      EXPECT_LE(early, scanned + 1e-9);
+    }
+    // Not vacuous: on a dented surface some direction's walk from some start stops above the lowest point.
+    for (int k = 0; k < 20 && dented; ++k)
+    {
+      const Vec d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+      dented_walks += a.points()[a.walk(d, std::size_t(k) % a.points().size())].dot(d) > a.points()[a.lowest(d)].dot(d);
+    }
+  }
+  EXPECT_GT(dented_walks, 0);
 }
 
 }  // namespace

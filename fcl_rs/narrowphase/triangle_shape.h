@@ -18,8 +18,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <fcl/geometry/shape/box.h>
@@ -218,9 +221,16 @@ struct DifferencePoint
 /// point lowest along d (A's lowest and B's highest, a DifferencePoint); the first point is supportOf(start).
 /// Stops when the pair is certified farther apart than `apart`, when it is within `touch` (meeting), or when the
 /// lower bound is within kIterativeRelativeGap of the distance reached. lower: the certified lower bound reached.
-template <typename SupportOf>
-Closest gjk(const SupportOf& supportOf, const Vec& start, double touch, double apart, double& lower)
+///
+/// With `exactSupportOf` (not nullptr), supportOf may return a point of the difference that is not its lowest
+/// (a walk along a surface's edges): such a point moves the simplex but bounds nothing. Where GJK would stop on
+/// it, exactSupportOf(v), the true lowest point, decides: it gives the bound, and replaces the walked point when
+/// lower, so GJK goes on from there.
+template <typename SupportOf, typename ExactSupportOf = std::nullptr_t>
+Closest gjk(const SupportOf& supportOf, const Vec& start, double touch, double apart, double& lower,
+            const ExactSupportOf& exactSupportOf = nullptr)
 {
+  constexpr bool kCertifies = !std::is_same_v<ExactSupportOf, std::nullptr_t>;
   using Point = DifferencePoint;
   std::array<Point, 4> simplex;
   int size = 1;
@@ -244,13 +254,30 @@ Closest gjk(const SupportOf& supportOf, const Vec& start, double touch, double a
     const double vv = v.squaredNorm();
     if (!(vv > touch * touch)) return lower = 0, finish();
     const double norm = std::sqrt(vv);
-    const Point p = supportOf(v);
-    // Every point of the difference lies beyond the plane through p normal to v: a lower bound.
-    lower = std::max(lower, v.dot(p.w) / norm);
-    if (lower > apart || norm - lower <= kIterativeRelativeGap * norm) return finish();
+    Point p = supportOf(v);
+    const auto stops = [&](double bound) { return bound > apart || norm - bound <= kIterativeRelativeGap * norm; };
+    const auto inSimplex = [&](const Point& q) {
+      for (int i = 0; i < size; ++i)
+        if (simplex[i].w == q.w) return true;
+      return false;
+    };
+    // Every point of the difference lies beyond the plane through the lowest point normal to v: a lower bound.
+    const double along = v.dot(p.w) / norm;
     // A support point already in the simplex: no progress left above rounding.
-    for (int i = 0; i < size; ++i)
-      if (simplex[i].w == p.w) return finish();
+    bool repeated = inSimplex(p);
+    if constexpr (kCertifies)
+    {
+      if (stops(std::max(lower, along)) || repeated)
+      {
+        const Point lowest = exactSupportOf(v);
+        const double exact = v.dot(lowest.w) / norm;
+        if (exact < along) p = lowest, repeated = inSimplex(p);
+        lower = std::max(lower, exact);
+      }
+    }
+    else
+      lower = std::max(lower, along);
+    if (stops(lower) || repeated) return finish();
     simplex[size++] = p;
     weights[size - 1] = 0;
     // The closest point of the simplex to the origin; vertices without weight leave it.
@@ -313,33 +340,194 @@ Closest gjk(const SupportOf& supportOf, const Vec& start, double touch, double a
   return finish();
 }
 
+/// Points whose convex hull GJK bounds (hullsLowerBound), with the edges of a triangulated surface over them when
+/// there are many: then a support point is found by walking from the previous one along edges to a neighbour
+/// lower along the direction, as long as one is (on a convex surface the walk ends at the lowest point), and only
+/// the point GJK would stop on is checked against every point (gjk's exactSupportOf), which makes the bound
+/// certified whatever the surface. That check skips the clusters of nearby points whose balls lie above it.
+class HullPoints
+{
+public:
+  HullPoints() = default;
+  /// Every support a scan of the points.
+  explicit HullPoints(std::vector<Vec> points) : points_(std::move(points)) {}
+  /// triangles: indices into points. Fewer points than kMinWalked are scanned whatever the surface.
+  HullPoints(std::vector<Vec> points, const std::vector<std::array<std::size_t, 3>>& triangles)
+    : points_(std::move(points))
+  {
+    if (points_.size() < kMinWalked || points_.size() > std::numeric_limits<std::uint32_t>::max()) return;
+    // Clusters: the points split at the median of their box's longest side until few are left, stored cluster
+    // by cluster (`order` lists the old indices in the new order).
+    std::vector<std::size_t> order(points_.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    split(order, 0, order.size());
+    std::vector<std::size_t> renamed(points_.size());
+    std::vector<Vec> ordered(points_.size());
+    for (std::size_t i = 0; i < order.size(); ++i) renamed[order[i]] = i, ordered[i] = points_[order[i]];
+    points_ = std::move(ordered);
+    std::vector<std::vector<std::uint32_t>> around(points_.size());
+    for (const auto& t : triangles)
+      for (int k = 0; k < 3; ++k)
+      {
+        const std::size_t from = renamed[t[k]], to = renamed[t[(k + 1) % 3]];
+        if (from != to) around[from].push_back(std::uint32_t(to)), around[to].push_back(std::uint32_t(from));
+      }
+    first_.push_back(0);
+    for (auto& next : around)
+    {
+      std::sort(next.begin(), next.end());
+      next.erase(std::unique(next.begin(), next.end()), next.end());
+      neighbours_.insert(neighbours_.end(), next.begin(), next.end());
+      first_.push_back(std::uint32_t(neighbours_.size()));
+    }
+    // The walks start at the point lowest along the axis direction nearest the first one.
+    for (int k = 0; k < 6; ++k) starts_[std::size_t(k)] = lowest(k < 3 ? Vec(Vec::Unit(k)) : Vec(-Vec::Unit(k - 3)));
+  }
+
+  const std::vector<Vec>& points() const { return points_; }
+  bool walks() const { return !first_.empty(); }
+
+  /// The index of the first point lowest along d.
+  std::size_t lowest(const Vec& d) const
+  {
+    std::size_t best = 0;
+    double lowest_value = points_[0].dot(d);
+    for (std::size_t i = 1; i < points_.size(); ++i)
+    {
+      const double value = points_[i].dot(d);
+      if (value < lowest_value) lowest_value = value, best = i;
+    }
+    return best;
+  }
+  /// The index of a point lowest along d, `candidate` unless a point is lower (walks()): the clusters whose
+  /// balls lie above the candidate along d are skipped.
+  std::size_t lowestBelow(const Vec& d, std::size_t candidate) const
+  {
+    double value = points_[candidate].dot(d);
+    const double length = d.norm();
+    for (const Cluster& c : clusters_)
+    {
+      // The cluster's points are at least this low; the margin covers the rounding of both sides.
+      const double floor = c.centre.dot(d) - c.radius * length;
+      if (floor - kClusterMargin * (c.reach * length) > value) continue;
+      for (std::size_t i = c.begin; i < c.end; ++i)
+      {
+        const double point = points_[i].dot(d);
+        if (point < value) value = point, candidate = i;
+      }
+    }
+    return candidate;
+  }
+  /// A point no neighbour of which is lower along d, reached from `from` (walks()); kNoPoint: from the start
+  /// point for d.
+  std::size_t walk(const Vec& d, std::size_t from) const
+  {
+    std::size_t at = from;
+    if (at == kNoPoint)
+    {
+      int axis = 0;
+      for (int k = 1; k < 3; ++k)
+        if (std::abs(d[k]) > std::abs(d[axis])) axis = k;
+      at = starts_[std::size_t(d[axis] > 0 ? axis : axis + 3)];
+    }
+    double value = points_[at].dot(d);
+    for (;;)
+    {
+      std::size_t next = at;
+      for (std::uint32_t k = first_[at]; k < first_[at + 1]; ++k)
+      {
+        const double neighbour = points_[neighbours_[k]].dot(d);
+        if (neighbour < value) value = neighbour, next = neighbours_[k];
+      }
+      if (next == at) return at;
+      at = next;
+    }
+  }
+
+  static constexpr std::size_t kNoPoint = std::numeric_limits<std::size_t>::max();
+  /// Below this many points a scan costs about what a walk does.
+  static constexpr std::size_t kMinWalked = 32;
+
+private:
+  /// Points [begin, end) within `radius` of `centre`; reach: |centre| + radius.
+  struct Cluster
+  {
+    std::size_t begin, end;
+    Vec centre;
+    double radius, reach;
+  };
+  static constexpr std::size_t kClusterSize = 16;
+  /// Far above the relative rounding of a dot product of three terms.
+  static constexpr double kClusterMargin = 1e-12;
+
+  /// Orders order[begin, end) into clusters of at most kClusterSize points and records them.
+  void split(std::vector<std::size_t>& order, std::size_t begin, std::size_t end)
+  {
+    Vec lo = points_[order[begin]], hi = lo;
+    for (std::size_t i = begin; i < end; ++i) lo = lo.cwiseMin(points_[order[i]]), hi = hi.cwiseMax(points_[order[i]]);
+    if (end - begin <= kClusterSize)
+    {
+      const Vec centre = (lo + hi) / 2;
+      double radius = 0;
+      for (std::size_t i = begin; i < end; ++i) radius = std::max(radius, (points_[order[i]] - centre).norm());
+      radius *= 1 + kClusterMargin;
+      clusters_.push_back(Cluster{begin, end, centre, radius, centre.norm() + radius});
+      return;
+    }
+    int axis;
+    (hi - lo).maxCoeff(&axis);
+    const std::size_t middle = begin + (end - begin) / 2;
+    std::nth_element(order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(middle),
+                     order.begin() + std::ptrdiff_t(end),
+                     [&](std::size_t x, std::size_t y) { return points_[x][axis] < points_[y][axis]; });
+    split(order, begin, middle);
+    split(order, middle, end);
+  }
+
+  std::vector<Vec> points_;
+  std::vector<std::uint32_t> first_, neighbours_;  ///< point i's neighbours: neighbours_[first_[i], first_[i + 1])
+  std::array<std::size_t, 6> starts_{};          ///< lowest along +x, +y, +z, -x, -y, -z
+  std::vector<Cluster> clusters_;                ///< cover the points in order, when walks()
+};
+
 /// A lower bound on the distance between the convex hulls of points a (posed by pa) and points b (posed by pb),
 /// each at least one point: gjk's certified bound, from `start` (roughly from b towards a), stopped once it
 /// exceeds `enough` (a caller that only asks whether the hulls are that far apart needs no more). Exact but for
 /// rounding, a few ulps of the points' and poses' scale. direction: from the closest point reached on a's hull to
 /// b's (zero when the hulls meet), the hulls' gap direction once GJK has converged.
-inline double hullsLowerBound(const std::vector<Vec>& a, const Eigen::Isometry3d& pa, const std::vector<Vec>& b,
+inline double hullsLowerBound(const HullPoints& a, const Eigen::Isometry3d& pa, const HullPoints& b,
                               const Eigen::Isometry3d& pb, const Vec& start, double enough, Vec* direction = nullptr)
 {
   const Eigen::Matrix3d ra = pa.linear().transpose(), rb = pb.linear().transpose();
-  const auto lowest = [](const std::vector<Vec>& points, const Vec& d) -> const Vec& {
-    std::size_t best = 0;
-    double lowest_value = points[0].dot(d);
-    for (std::size_t i = 1; i < points.size(); ++i)
-    {
-      const double value = points[i].dot(d);
-      if (value < lowest_value) lowest_value = value, best = i;
-    }
-    return points[best];
-  };
   // The difference's point lowest along d: a's lowest point and b's highest.
-  const auto supportOf = [&](const Vec& d) {
-    const Vec pa_point = pa * lowest(a, ra * d);
-    const Vec pb_point = pb * lowest(b, rb * Vec(-d));
+  const auto differencePoint = [&](std::size_t i, std::size_t j) {
+    const Vec pa_point = pa * a.points()[i];
+    const Vec pb_point = pb * b.points()[j];
     return DifferencePoint{pa_point, pb_point, pa_point - pb_point};
   };
+  const auto lowestPoint = [&](const Vec& d) { return differencePoint(a.lowest(ra * d), b.lowest(rb * Vec(-d))); };
   double lower = 0;
-  const Closest reached = gjk(supportOf, start, 0, enough, lower);
+  Closest reached;
+  if (!a.walks() && !b.walks())
+    reached = gjk(lowestPoint, start, 0, enough, lower);
+  else
+  {
+    // Each walk goes on from where the previous support point of its hull was.
+    std::size_t at_a = HullPoints::kNoPoint, at_b = HullPoints::kNoPoint;
+    const auto walkedPoint = [&](const Vec& d) {
+      const Vec da = ra * d, db = rb * Vec(-d);
+      at_a = a.walks() ? a.walk(da, at_a) : a.lowest(da);
+      at_b = b.walks() ? b.walk(db, at_b) : b.lowest(db);
+      return differencePoint(at_a, at_b);
+    };
+    const auto scannedPoint = [&](const Vec& d) {
+      const Vec da = ra * d, db = rb * Vec(-d);
+      at_a = a.walks() ? a.lowestBelow(da, at_a) : a.lowest(da);
+      at_b = b.walks() ? b.lowestBelow(db, at_b) : b.lowest(db);
+      return differencePoint(at_a, at_b);
+    };
+    reached = gjk(walkedPoint, start, 0, enough, lower, scannedPoint);
+  }
   if (direction) *direction = reached.on_shape - reached.on_triangle;
   return lower;
 }

@@ -362,8 +362,8 @@ struct SelfCollision<S>::Impl
     fcl::Vector3<S> center = fcl::Vector3<S>::Zero();
     S radius = 0;
     /// Points of the link frame (in double) whose convex hull, grown by hull_radius, holds the element: the
-    /// mesh's vertices, or primitiveHullPoints. hull_reach: the largest |point| + hull_radius.
-    std::vector<fcl::Vector3d> hull_points;
+    /// mesh's vertices (with its edges), or primitiveHullPoints. hull_reach: the largest |point| + hull_radius.
+    triangle_shape::HullPoints hull_points;
     double hull_radius = 0, hull_reach = 0;
     /// Whether every triangle's plane has all the mesh's vertices on one side (to 1e-2 of its reach); shapes are.
     /// Only convex elements are measured along their hulls' gap direction: elsewhere the direction leaves too
@@ -680,13 +680,27 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       typename Impl::Element mesh;
       mesh.center = mesh_centre.cast<S>();
       mesh.radius = S(mesh_radius * (1 + 1e-6));
-      // Distinct vertices only (a mesh file may repeat each vertex per triangle): GJK scans them all per step.
-      for (const auto& v : meshes[i].vertices) mesh.hull_points.push_back(v.template cast<double>());
-      std::sort(mesh.hull_points.begin(), mesh.hull_points.end(), [](const fcl::Vector3d& x, const fcl::Vector3d& y) {
+      // Distinct vertices only (a mesh file may repeat each vertex per triangle): GJK's scans meet each once, and
+      // its walks follow the triangles' edges between them.
+      std::vector<fcl::Vector3d> points;
+      for (const auto& v : meshes[i].vertices) points.push_back(v.template cast<double>());
+      const auto before = [](const fcl::Vector3d& x, const fcl::Vector3d& y) {
         return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
-      });
-      mesh.hull_points.erase(std::unique(mesh.hull_points.begin(), mesh.hull_points.end()), mesh.hull_points.end());
-      mesh.convex = convexPosition(src.mesh, mesh.hull_points);
+      };
+      std::sort(points.begin(), points.end(), before);
+      points.erase(std::unique(points.begin(), points.end()), points.end());
+      std::vector<std::array<std::size_t, 3>> triangles;
+      for (const fcl::Triangle& t : meshes[i].triangles)
+      {
+        std::array<std::size_t, 3> ids;
+        for (int k = 0; k < 3; ++k)
+          ids[std::size_t(k)] = std::size_t(
+            std::lower_bound(points.begin(), points.end(), meshes[i].vertices[t[k]].template cast<double>(), before) -
+            points.begin());
+        triangles.push_back(ids);
+      }
+      mesh.convex = convexPosition(src.mesh, points);
+      mesh.hull_points = triangle_shape::HullPoints(std::move(points), triangles);
       link.elements.push_back(mesh);  // its geometry, the tree, is set below
     }
     for (std::size_t k = 0; k < link.shapes.size(); ++k)
@@ -699,14 +713,16 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       shape.origin = link.shapes[k].origin;
       shape.center = link.shapes[k].origin.translation();
       shape.radius = S(primitiveRadius(src.primitives[k]) * (1 + 1e-6));
+      std::vector<fcl::Vector3d> corners;
       for (const fcl::Vector3d& corner : primitiveHullPoints(src.primitives[k], shape.hull_radius))
-        shape.hull_points.push_back(src.primitives[k].origin * corner);
+        corners.push_back(src.primitives[k].origin * corner);
+      shape.hull_points = triangle_shape::HullPoints(std::move(corners));
       link.elements.push_back(shape);
     }
   }
   for (typename Impl::Link& link : impl_->links)
     for (typename Impl::Element& element : link.elements)
-      for (const fcl::Vector3d& point : element.hull_points)
+      for (const fcl::Vector3d& point : element.hull_points.points())
         element.hull_reach = std::max(element.hull_reach, point.norm() + element.hull_radius);
   impl_->trees = makeTrees<S>(bv, meshes);
   for (int i = 0; i < n; ++i)
