@@ -261,7 +261,8 @@ Closest gjk(const SupportOf& supportOf, const Vec& start, double touch, double a
         if (simplex[i].w == q.w) return true;
       return false;
     };
-    // Every point of the difference lies beyond the plane through the lowest point normal to v: a lower bound.
+    // Every point of the difference lies beyond the plane through its lowest point normal to v: where p is that
+    // point (supportOf exact, or confirmed by exactSupportOf), `along` is a lower bound.
     const double along = v.dot(p.w) / norm;
     // A support point already in the simplex: no progress left above rounding.
     bool repeated = inSimplex(p);
@@ -499,12 +500,12 @@ inline double hullsLowerBound(const HullPoints& a, const Eigen::Isometry3d& pa, 
                               const Eigen::Isometry3d& pb, const Vec& start, double enough, Vec* direction = nullptr)
 {
   const Eigen::Matrix3d ra = pa.linear().transpose(), rb = pb.linear().transpose();
-  // The difference's point lowest along d: a's lowest point and b's highest.
   const auto differencePoint = [&](std::size_t i, std::size_t j) {
     const Vec pa_point = pa * a.points()[i];
     const Vec pb_point = pb * b.points()[j];
     return DifferencePoint{pa_point, pb_point, pa_point - pb_point};
   };
+  // The difference's point lowest along d: a's lowest point and b's highest.
   const auto lowestPoint = [&](const Vec& d) { return differencePoint(a.lowest(ra * d), b.lowest(rb * Vec(-d))); };
   double lower = 0;
   Closest reached;
