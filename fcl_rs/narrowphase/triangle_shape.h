@@ -400,10 +400,11 @@ public:
     }
     return best;
   }
-  /// The index of a point lowest along d, `candidate` unless a point is lower (walks()): the clusters whose
-  /// balls lie above the candidate along d are skipped.
+  /// The index of a point lowest along d, `candidate` unless a point is lower: the clusters whose balls lie above
+  /// the candidate along d are skipped (without walks(), lowest(d)).
   std::size_t lowestBelow(const Vec& d, std::size_t candidate) const
   {
+    if (!walks()) return lowest(d);
     double value = points_[candidate].dot(d);
     const double length = d.norm();
     for (const Cluster& c : clusters_)
@@ -419,10 +420,11 @@ public:
     }
     return candidate;
   }
-  /// A point no neighbour of which is lower along d, reached from `from` (walks()); kNoPoint: from the start
-  /// point for d.
+  /// A point no neighbour of which is lower along d, reached from `from` (kNoPoint: from the start point for d);
+  /// without walks(), lowest(d).
   std::size_t walk(const Vec& d, std::size_t from) const
   {
+    if (!walks()) return lowest(d);
     std::size_t at = from;
     if (at == kNoPoint)
     {
@@ -516,15 +518,13 @@ inline double hullsLowerBound(const HullPoints& a, const Eigen::Isometry3d& pa, 
     // Each walk goes on from where the previous support point of its hull was.
     std::size_t at_a = HullPoints::kNoPoint, at_b = HullPoints::kNoPoint;
     const auto walkedPoint = [&](const Vec& d) {
-      const Vec da = ra * d, db = rb * Vec(-d);
-      at_a = a.walks() ? a.walk(da, at_a) : a.lowest(da);
-      at_b = b.walks() ? b.walk(db, at_b) : b.lowest(db);
+      at_a = a.walk(ra * d, at_a);
+      at_b = b.walk(rb * Vec(-d), at_b);
       return differencePoint(at_a, at_b);
     };
     const auto scannedPoint = [&](const Vec& d) {
-      const Vec da = ra * d, db = rb * Vec(-d);
-      at_a = a.walks() ? a.lowestBelow(da, at_a) : a.lowest(da);
-      at_b = b.walks() ? b.lowestBelow(db, at_b) : b.lowest(db);
+      at_a = a.lowestBelow(ra * d, at_a);
+      at_b = b.lowestBelow(rb * Vec(-d), at_b);
       return differencePoint(at_a, at_b);
     };
     reached = gjk(walkedPoint, start, 0, enough, lower, scannedPoint);
