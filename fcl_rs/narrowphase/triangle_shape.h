@@ -175,6 +175,54 @@ inline void segmentSegment(const Vec& p0, const Vec& p1, const Vec& q0, const Ve
   best.keep((x - y).norm(), x, y);
 }
 
+/// Closest points of segment [p0, p1] and the box [-h, h] (on_triangle on the segment). Along the segment the
+/// squared distance to the box is convex and piecewise quadratic, one piece between consecutive crossings of the
+/// box's face planes: the first piece whose slope turns non-negative holds the minimum, in closed form.
+inline void segmentBox(const Vec& p0, const Vec& p1, const Vec& h, Closest& best)
+{
+  const Vec u = p1 - p0;
+  double cuts[7];
+  int count = 0;
+  for (int k = 0; k < 3; ++k)
+    for (const double face : {-h[k], h[k]})
+    {
+      const double s = (face - p0[k]) / u[k];  // no crossing (s not in (0, 1), or NaN) for u[k] == 0
+      if (s > 0 && s < 1)
+      {
+        int at = count++;  // sorted as they come
+        for (; at > 0 && cuts[at - 1] > s; --at) cuts[at] = cuts[at - 1];
+        cuts[at] = s;
+      }
+    }
+  cuts[count++] = 1;
+  double from = 0, s = 1;
+  for (int i = 0; i < count; ++i)
+  {
+    const double to = cuts[i];
+    if (!(to > from)) continue;
+    // Half the slope on (from, to) is a s + b: the axes on which the piece lies outside the box add to it.
+    const double mid = 0.5 * (from + to);
+    double a = 0, b = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double x = p0[k] + mid * u[k];
+      if (x > h[k])
+        a += u[k] * u[k], b += u[k] * (p0[k] - h[k]);
+      else if (x < -h[k])
+        a += u[k] * u[k], b += u[k] * (p0[k] + h[k]);
+    }
+    if (a * to + b >= 0)
+    {
+      s = a > 0 ? std::clamp(-b / a, from, to) : from;
+      break;
+    }
+    from = to;
+  }
+  const Vec x = p0 + s * u;
+  const Vec y = x.cwiseMax(-h).cwiseMin(h);
+  best.keep((x - y).norm(), x, y);
+}
+
 /// Closest points of triangle t and segment [s0, s1] (on_shape on the segment).
 inline Closest segmentTriangle(const Vec t[3], const Vec& s0, const Vec& s1)
 {
@@ -626,46 +674,22 @@ public:
   }
 
   /// For two disjoint convex polytopes some closest pair is a vertex of one and a point of the other, or a
-  /// point on an edge of each. The box's closest point q to the triangle's closest point p is p clamped to the
-  /// box, so q can be a box vertex or lie on a box edge only if p (and so some triangle vertex) is beyond the
-  /// faces meeting there: the other vertices and edges are skipped (exact comparisons, no rounding).
+  /// point on an edge of each: a point of a triangle edge (segmentBox), or a box corner and a point inside the
+  /// triangle. At such a corner the triangle's plane is a separating plane, so the corner is the box's nearest to
+  /// that plane on the box's side; where several are (a box face or edge parallel to the plane), one whose
+  /// closest point is inside the triangle gives the distance, or a triangle edge passes over that face or edge
+  /// at the same distance.
   Closest closest(const Vec t[3]) const
   {
     Closest best;
-    for (int i = 0; i < 3; ++i)
-    {
-      const Vec q = t[i].cwiseMax(-h_).cwiseMin(h_);
-      best.keep((t[i] - q).norm(), t[i], q);
-    }
-    // beyond[k][s]: some triangle vertex lies beyond the box face of axis k on side s (0: -h, 1: +h).
-    bool beyond[3][2];
-    for (int k = 0; k < 3; ++k)
-    {
-      beyond[k][0] = std::min({t[0][k], t[1][k], t[2][k]}) <= -h_[k];
-      beyond[k][1] = std::max({t[0][k], t[1][k], t[2][k]}) >= h_[k];
-    }
-    for (int corner = 0; corner < 8; ++corner)
-    {
-      const int s[3] = {corner & 1, (corner >> 1) & 1, (corner >> 2) & 1};
-      if (!beyond[0][s[0]] || !beyond[1][s[1]] || !beyond[2][s[2]]) continue;
-      const Vec q(s[0] ? h_[0] : -h_[0], s[1] ? h_[1] : -h_[1], s[2] ? h_[2] : -h_[2]);
-      const Vec p = closestOnTriangle(t, q);
-      best.keep((p - q).norm(), p, q);
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      const int j = (k + 1) % 3, l = (k + 2) % 3;
-      for (int sides = 0; sides < 4; ++sides)
-      {
-        const int sj = sides & 1, sl = sides >> 1;
-        if (!beyond[j][sj] || !beyond[l][sl]) continue;
-        Vec e0, e1;
-        e0[j] = e1[j] = sj ? h_[j] : -h_[j];
-        e0[l] = e1[l] = sl ? h_[l] : -h_[l];
-        e0[k] = -h_[k], e1[k] = h_[k];
-        for (int i = 0; i < 3; ++i) segmentSegment(t[i], t[(i + 1) % 3], e0, e1, best);
-      }
-    }
+    for (int i = 0; i < 3; ++i) segmentBox(t[i], t[(i + 1) % 3], h_, best);
+    const Vec n = (t[1] - t[0]).cross(t[2] - t[0]);
+    // The box's centre, the origin, lies on the side of the plane opposite to `towards`.
+    const double towards = n.dot(t[0]) > 0 ? 1 : -1;
+    Vec corner;
+    for (int k = 0; k < 3; ++k) corner[k] = towards * n[k] >= 0 ? h_[k] : -h_[k];
+    const Vec p = closestOnTriangle(t, corner);
+    best.keep((p - corner).norm(), p, corner);
     return best;
   }
 
