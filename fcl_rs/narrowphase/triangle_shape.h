@@ -674,18 +674,36 @@ public:
   }
 
   /// For two disjoint convex polytopes some closest pair is a vertex of one and a point of the other, or a
-  /// point on an edge of each: a point of a triangle edge (segmentBox), or a box corner and a point inside the
-  /// triangle. At such a corner the triangle's plane is a separating plane, so the corner is the box's nearest to
-  /// that plane on the box's side; where several are (a box face or edge parallel to the plane), one whose
-  /// closest point is inside the triangle gives the distance, or a triangle edge passes over that face or edge
-  /// at the same distance.
+  /// point on an edge of each: a point of a triangle edge, or a box corner and a point inside the triangle.
+  /// - Along an edge the squared distance is convex with slope 2 u.e at an end (u along the edge, e the end's
+  ///   offset from its nearest box point): the edge is measured (segmentBox) only when both ends slope inwards,
+  ///   else its nearest point is an end, measured as a vertex.
+  /// - At a corner with a point inside the triangle the triangle's plane separates, so the corner is the box's
+  ///   nearest to that plane on the box's side; where several are (a box face or edge parallel to the plane), one
+  ///   whose closest point is inside the triangle gives the distance, or a triangle edge passes over that face or
+  ///   edge at the same distance. A box that crosses the plane (beyond the rounding) has no such pair.
   Closest closest(const Vec t[3]) const
   {
     Closest best;
-    for (int i = 0; i < 3; ++i) segmentBox(t[i], t[(i + 1) % 3], h_, best);
+    Vec offset[3];
+    for (int i = 0; i < 3; ++i)
+    {
+      const Vec q = t[i].cwiseMax(-h_).cwiseMin(h_);
+      offset[i] = t[i] - q;
+      best.keep(offset[i].norm(), t[i], q);
+    }
+    for (int i = 0; i < 3; ++i)
+    {
+      const int j = (i + 1) % 3;
+      const Vec u = t[j] - t[i];
+      if (u.dot(offset[i]) < 0 && u.dot(offset[j]) > 0) segmentBox(t[i], t[j], h_, best);
+    }
     const Vec n = (t[1] - t[0]).cross(t[2] - t[0]);
+    const double centre = n.dot(t[0]), half_width = h_.dot(n.cwiseAbs());
+    // The rounding of both is far below 1e-9 of n's and the coordinates' scale.
+    if (std::abs(centre) + 1e-9 * n.lpNorm<1>() * (t[0].lpNorm<1>() + h_.sum()) < half_width) return best;
     // The box's centre, the origin, lies on the side of the plane opposite to `towards`.
-    const double towards = n.dot(t[0]) > 0 ? 1 : -1;
+    const double towards = centre > 0 ? 1 : -1;
     Vec corner;
     for (int k = 0; k < 3; ++k) corner[k] = towards * n[k] >= 0 ? h_[k] : -h_[k];
     const Vec p = closestOnTriangle(t, corner);
