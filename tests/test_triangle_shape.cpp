@@ -569,6 +569,78 @@ TYPED_TEST(TriangleShape, VertexAboveAFlatTriangleFromTheFuzzer)
   EXPECT_EQ(tally.apart, 40) << what;
 }
 
+/// Small boxes near large triangles, as a robot's finger box near a link's triangles: the closest pair lies inside
+/// a triangle edge (measured along the edge in closed form), at the box corner nearest the triangle's plane over
+/// its interior, or at a triangle vertex, and the box may cross the triangle's plane beside the triangle (no
+/// corner measured then). Seeded, both poses random.
+TYPED_TEST(TriangleShape, SmallBoxesNearLargeTrianglesMatchTheExactAnswer)
+{
+  using S = TypeParam;
+  using V = fcl::Vector3<S>;
+  const std::string what = "triangle-shape/small-box/" + fcl_rs::test::scalarName<S>();
+  auto rng = fcl_rs::test::seededRng(what);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Tally tally;
+  const int count = 120;
+  for (int i = 0; i < count; ++i)
+  {
+    SCOPED_TRACE(what + " #" + std::to_string(i));
+    const Vec h(0.02 + 0.04 * (1 + u(rng)), 0.02 + 0.04 * (1 + u(rng)), 0.02 + 0.04 * (1 + u(rng)));
+    const fcl::Box<S> box(S(2 * h.x()), S(2 * h.y()), S(2 * h.z()));
+    const Vec hs = (box.side / 2).template cast<double>();
+    const Reference ref{[=](const ExactTriangle& a, const ExactPose& p) {
+                          return fcl_rs::test::exactPolytope(a, p, boxVertices(hs), boxBoundary());
+                        },
+                        [=](const Vec& n) { return Vec(signs(n).cwiseProduct(hs)); }, true};
+    const fcl::Transform3<S> tf1 = fcl_rs::test::randomPose<S>(rng, S(1));
+    const fcl::Transform3<S> tf2 = fcl_rs::test::randomPose<S>(rng, S(1));
+    // In the box's frame: a triangle about 1 across whose nearest feature is chosen by the case.
+    const Vec gap_dir = Vec(u(rng), u(rng), u(rng)).normalized();
+    const double gap = 0.002 + 0.05 * (1 + u(rng));
+    Vec t[3];
+    switch (i % 3)
+    {
+      case 0:
+      {
+        // The triangle's plane normal to gap_dir, beyond the box's support point, the corner under its interior.
+        const Vec corner = signs(gap_dir).cwiseProduct(hs);
+        const Vec at = corner + gap * gap_dir;
+        const Vec a = gap_dir.unitOrthogonal(), b = gap_dir.cross(a);
+        for (int k = 0; k < 3; ++k)
+        {
+          const double angle = 2.0944 * k + 0.3 * u(rng);
+          t[k] = at + 0.6 * (std::cos(angle) * a + std::sin(angle) * b);
+        }
+        break;
+      }
+      case 1:
+      {
+        // An edge skew to the box, its middle nearest; the third vertex farther out, so the triangle's plane may
+        // cross the box.
+        const Vec along = gap_dir.unitOrthogonal();
+        const Vec mid = signs(gap_dir).cwiseProduct(hs) + gap * gap_dir;
+        t[0] = mid - 0.5 * along, t[1] = mid + 0.5 * along;
+        t[2] = mid + 0.8 * gap_dir + 0.4 * Vec(u(rng), u(rng), u(rng));
+        break;
+      }
+      default:
+        // A vertex above a face, the rest of the triangle going away from the box.
+        t[0] = signs(gap_dir).cwiseProduct(hs).cwiseProduct(Vec(0.5 * u(rng), 0.5 * u(rng), 1.0)) +
+               Vec(0, 0, std::copysign(gap, gap_dir.z()));
+        t[1] = t[0] + Vec(0.5 * u(rng), 0.5 * u(rng), std::copysign(0.3, gap_dir.z()));
+        t[2] = t[0] + Vec(0.5 * u(rng), 0.5 * u(rng), std::copysign(0.6, gap_dir.z()));
+    }
+    // Into the mesh's frame: the world triangle is tf2 t.
+    V p[3];
+    for (int k = 0; k < 3; ++k)
+      p[k] = tf1.inverse(Eigen::Isometry) * (tf2 * V(t[k].template cast<S>()));
+    checkTriangle<S>(box, ref, p, tf1, tf2, false, tally);
+  }
+  std::cout << "[triangle-shape] " << what << ": " << count << " triangles, " << tally.apart
+            << " apart, worst relative distance error " << tally.worst_relative << "\n";
+  EXPECT_GE(tally.apart, count * 9 / 10) << what;
+}
+
 namespace {
 
 /// hullsLowerBound on seeded point sets whose hulls are triangles (generic, collinear, a point), against CGAL's
