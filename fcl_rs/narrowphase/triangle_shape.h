@@ -3,7 +3,7 @@
 // Every test runs in the shape's own frame, in double (float inputs are widened), on the triangle moved there by
 // X = tf_shape^-1 tf_mesh. Sphere, capsule, box, convex, plane and halfspace are closed form: the distance is the
 // exact distance of the moved triangle to the shape, to rounding (point-triangle, segment-triangle,
-// segment-segment and triangle-triangle distances over the features that can hold the closest pair).
+// segment-segment, segment-box and triangle-triangle distances over the features that can hold the closest pair).
 // Cylinder, cone and ellipsoid have no closed form: GJK on their exact support functions (not FCL's, which adds
 // margins and tolerances), stopped when its certified lower bound is within kIterativeRelativeGap of the distance
 // it has reached (docs/distance.md).
@@ -676,8 +676,8 @@ public:
   /// For two disjoint convex polytopes some closest pair is a vertex of one and a point of the other, or a
   /// point on an edge of each: a point of a triangle edge, or a box corner and a point inside the triangle.
   /// - Along an edge the squared distance is convex with slope 2 u.e at an end (u along the edge, e the end's
-  ///   offset from its nearest box point): the edge is measured (segmentBox) only when both ends slope inwards,
-  ///   else its nearest point is an end, measured as a vertex.
+  ///   offset from its nearest box point): the edge is measured (segmentBox) only when the distance falls from
+  ///   both ends into the edge, else its nearest point is an end, measured as a vertex.
   /// - At a corner with a point inside the triangle the triangle's plane separates, so the corner is the box's
   ///   nearest to that plane on the box's side; where several are (a box face or edge parallel to the plane), one
   ///   whose closest point is inside the triangle gives the distance, or a triangle edge passes over that face or
@@ -702,7 +702,8 @@ public:
     const double centre = n.dot(t[0]), half_width = h_.dot(n.cwiseAbs());
     // The rounding of both is far below 1e-9 of n's and the coordinates' scale.
     if (std::abs(centre) + 1e-9 * n.lpNorm<1>() * (t[0].lpNorm<1>() + h_.sum()) < half_width) return best;
-    // The box's centre, the origin, lies on the side of the plane opposite to `towards`.
+    // The plane lies along towards * n from the box's centre (the origin): the corner nearest it is the box's
+    // support point along that direction.
     const double towards = centre > 0 ? 1 : -1;
     Vec corner;
     for (int k = 0; k < 3; ++k) corner[k] = towards * n[k] >= 0 ? h_[k] : -h_[k];
