@@ -1,5 +1,6 @@
 // fcl::collide, fcl::distance and fcl::continuousCollide for float, compiled once in the fcl_rs library
-// (src/fcl_float_collide.cpp, src/fcl_float_distance.cpp, src/fcl_float_continuous.cpp). libfcl.so ships them for
+// (src/fcl_float_collide.cpp, src/fcl_float_distance.cpp, src/fcl_float_continuous.cpp; not in a double-only build,
+// CMake option FCL_RS_FLOAT). libfcl.so ships them for
 // double only; for float, every translation unit calling them (directly, through fcl_rs's fallbacks or through
 // FCL's broadphase callbacks) would otherwise instantiate FCL's whole narrow phase again: every BV and shape pair
 // for both GJK solvers, minutes of compile time per file under the sanitizers. continuousCollide only on motions:

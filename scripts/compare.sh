@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: RS side by side with FCL's trees. Installs the few Debian packages it needs when missing (sudo when
-# not root), builds fcl_rs_compare and the core library only in build/ (scripts/setup.sh --for compare), then runs
-# it; progress and tables on stdout. scripts/test.sh builds the rest.
+# not root), builds fcl_rs_compare and the core library for double only in build/ (scripts/setup.sh --for compare),
+# then runs it; progress and tables on stdout. scripts/test.sh builds the rest (and float).
 # Usage: scripts/compare.sh [--with-coal[=PREFIX]] [fcl_rs_compare options] [MESH_FILE ...]
 #   --with-coal[=PREFIX]  also measure Coal 3.0's trees (Coal installed in PREFIX, default /opt/coal; Coal is not
 #                         packaged in Debian 12, README's comparison section says how to build it). Then

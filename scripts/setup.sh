@@ -5,8 +5,8 @@
 #   --for all      (default) every package; BUILD_DIR (default build) configured with every part on, all built
 #   --no-unit-tests  with --for all: every part but the GoogleTest executables (scripts/test.sh builds those in its
 #                  sanitized tree)
-#   --for compare  the core's packages; a new BUILD_DIR gets the core and fcl_rs_compare only (an existing one keeps
-#                  its options); builds the target fcl_rs_compare alone (scripts/compare.sh)
+#   --for compare  the core's packages; a new BUILD_DIR gets the core for double only and fcl_rs_compare (an existing
+#                  one keeps its options); builds the target fcl_rs_compare alone (scripts/compare.sh)
 #   --for python   the module's packages; BUILD_DIR gets the robot, batch and Python parts on (the rest as they
 #                  are, or off in a new one); builds the target fcl_rs_python alone (scripts/install_python.sh)
 #   --packages-only  install the packages, configure and build nothing
@@ -40,7 +40,8 @@ parts_off=(-DBUILD_TESTING=OFF -DFCL_RS_BUILD_TOOLS=OFF -DFCL_RS_BUILD_EXAMPLES=
 case "$job" in
   compare)
     packages=("${compare_packages[@]}") target=(--target fcl_rs_compare)
-    options=("${parts_off[@]}" -DFCL_RS_BUILD_ROBOT=OFF -DFCL_RS_BUILD_BATCH=OFF -DFCL_RS_BUILD_BENCHMARKS=ON) ;;
+    options=("${parts_off[@]}" -DFCL_RS_BUILD_ROBOT=OFF -DFCL_RS_BUILD_BATCH=OFF -DFCL_RS_BUILD_BENCHMARKS=ON
+             -DFCL_RS_FLOAT=OFF) ;;
   python)
     packages=("${python_packages[@]}") target=(--target fcl_rs_python)
     options=("${parts_off[@]}" -DFCL_RS_BUILD_BENCHMARKS=OFF) ;;
@@ -75,7 +76,7 @@ if [ -f "$build/CMakeCache.txt" ]; then
 else
   generator=(-G Ninja)
 fi
-[ "$job" = all ] && options=(-DBUILD_TESTING=ON -DFCL_RS_BUILD_HULL=ON -DFCL_RS_BUILD_EXPORT=ON
+[ "$job" = all ] && options=(-DFCL_RS_FLOAT=ON -DBUILD_TESTING=ON -DFCL_RS_BUILD_HULL=ON -DFCL_RS_BUILD_EXPORT=ON
   -DFCL_RS_BUILD_ROBOT=ON -DFCL_RS_BUILD_BATCH=ON -DFCL_RS_BUILD_TOOLS=ON -DFCL_RS_BUILD_EXAMPLES=ON
   -DFCL_RS_BUILD_BENCHMARKS=ON -DFCL_RS_BUILD_EXPERIMENTS=ON -DFCL_RS_BUILD_PYTHON=ON
   -DFCL_RS_BUILD_UNIT_TESTS=$unit_tests)

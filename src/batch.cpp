@@ -19,6 +19,7 @@
 #include <tbb/task_arena.h>
 #endif
 
+#include "scalars.h"
 #include "validated_entries.h"
 #include "fcl_rs/validate.h"
 
@@ -154,8 +155,7 @@ std::vector<fcl::DistanceResult<S>> distanceBatch(const fcl::CollisionGeometry<S
   template std::vector<fcl::DistanceResult<S>> distanceBatch<S>(                                                  \
       const fcl::CollisionGeometry<S>&, const std::vector<fcl::Transform3<S>>&, const fcl::CollisionGeometry<S>&, \
       const std::vector<fcl::Transform3<S>>&, const fcl::DistanceRequest<S>&, const BatchOptions&);
-FCL_RS_INSTANTIATE_BATCH(float)
-FCL_RS_INSTANTIATE_BATCH(double)
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_BATCH)
 #undef FCL_RS_INSTANTIATE_BATCH
 
 }  // namespace fcl_rs

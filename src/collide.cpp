@@ -1,5 +1,6 @@
 // fcl_rs::collide: dispatch of RS mesh pairs to the local-frame RS traversal, everything else to FCL.
 #include "rs_pairs.h"
+#include "scalars.h"
 #include "validated_entries.h"
 #include "fcl_rs/collide.h"
 
@@ -276,27 +277,16 @@ std::size_t collide(const fcl::CollisionObject<S>* o1, const fcl::CollisionObjec
                                   o2->getTransform(), request, result);
 }
 
-template std::size_t detail::collideValidated<float>(const fcl::CollisionGeometry<float>*,
-                                                     const fcl::Transform3<float>&,
-                                                     const fcl::CollisionGeometry<float>*,
-                                                     const fcl::Transform3<float>&,
-                                                     const fcl::CollisionRequest<float>&,
-                                                     fcl::CollisionResult<float>&);
-template std::size_t detail::collideValidated<double>(const fcl::CollisionGeometry<double>*,
-                                                      const fcl::Transform3<double>&,
-                                                      const fcl::CollisionGeometry<double>*,
-                                                      const fcl::Transform3<double>&,
-                                                      const fcl::CollisionRequest<double>&,
-                                                      fcl::CollisionResult<double>&);
-template std::size_t collide<float>(const fcl::CollisionObject<float>*, const fcl::CollisionObject<float>*,
-                                    const fcl::CollisionRequest<float>&, fcl::CollisionResult<float>&);
-template std::size_t collide<float>(const fcl::CollisionGeometry<float>*, const fcl::Transform3<float>&,
-                                    const fcl::CollisionGeometry<float>*, const fcl::Transform3<float>&,
-                                    const fcl::CollisionRequest<float>&, fcl::CollisionResult<float>&);
-template std::size_t collide<double>(const fcl::CollisionObject<double>*, const fcl::CollisionObject<double>*,
-                                     const fcl::CollisionRequest<double>&, fcl::CollisionResult<double>&);
-template std::size_t collide<double>(const fcl::CollisionGeometry<double>*, const fcl::Transform3<double>&,
-                                     const fcl::CollisionGeometry<double>*, const fcl::Transform3<double>&,
-                                     const fcl::CollisionRequest<double>&, fcl::CollisionResult<double>&);
+#define FCL_RS_INSTANTIATE_COLLIDE(S)                                                                          \
+  template std::size_t detail::collideValidated<S>(const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,  \
+                                                   const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,  \
+                                                   const fcl::CollisionRequest<S>&, fcl::CollisionResult<S>&);   \
+  template std::size_t collide<S>(const fcl::CollisionObject<S>*, const fcl::CollisionObject<S>*,               \
+                                  const fcl::CollisionRequest<S>&, fcl::CollisionResult<S>&);                    \
+  template std::size_t collide<S>(const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,                   \
+                                  const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,                   \
+                                  const fcl::CollisionRequest<S>&, fcl::CollisionResult<S>&);
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_COLLIDE)
+#undef FCL_RS_INSTANTIATE_COLLIDE
 
 }  // namespace fcl_rs

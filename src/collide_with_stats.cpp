@@ -4,6 +4,7 @@
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 #include <fcl/narrowphase/detail/traversal/collision/mesh_collision_traversal_node.h>
 
+#include "scalars.h"
 #include "fcl_rs/collide_with_stats.h"
 #include "fcl_rs/traversal/collision_traversal.h"
 #include "fcl_rs/validate.h"
@@ -120,14 +121,12 @@ QueryStats collideWithStats(const fcl::BVHModel<RS<S>>& model1, const fcl::Trans
 template <typename S> using KDOP16 = fcl::KDOP<S, 16>;
 template <typename S> using KDOP18 = fcl::KDOP<S, 18>;
 template <typename S> using KDOP24 = fcl::KDOP<S, 24>;
-FCL_RS_INSTANTIATE_STATS_ALL(float)
-FCL_RS_INSTANTIATE_STATS_ALL(double)
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_STATS_ALL)
 
 #define FCL_RS_INSTANTIATE_RS_STATS(S)                                                                           \
   template QueryStats collideWithStats<S>(const fcl::BVHModel<RS<S>>&, const fcl::Transform3<S>&,               \
                                           const fcl::BVHModel<RS<S>>&, const fcl::Transform3<S>&,               \
                                           const fcl::CollisionRequest<S>&, fcl::CollisionResult<S>&, OverlapTest);
-FCL_RS_INSTANTIATE_RS_STATS(float)
-FCL_RS_INSTANTIATE_RS_STATS(double)
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_RS_STATS)
 
 }  // namespace fcl_rs

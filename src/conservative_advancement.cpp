@@ -1,6 +1,7 @@
 // Conservative advancement for pairs with an RS mesh (fcl_rs::continuousCollide, CCDC_CONSERVATIVE_ADVANCEMENT):
 // exact distances from fcl_rs::distance and a bound on how fast any point of either object can move.
 #include "rs_pairs.h"
+#include "scalars.h"
 #include "fcl_rs/continuous_collision.h"
 
 #include <algorithm>
@@ -246,14 +247,13 @@ S conservativeAdvancement(const fcl::CollisionGeometry<S>* o1, const fcl::Motion
   return result.time_of_contact;
 }
 
-template float conservativeAdvancement<float>(const fcl::CollisionGeometry<float>*, const fcl::MotionBase<float>*,
-                                              const fcl::CollisionGeometry<float>*, const fcl::MotionBase<float>*,
-                                              const fcl::ContinuousCollisionRequest<float>&,
-                                              fcl::ContinuousCollisionResult<float>&);
-template double conservativeAdvancement<double>(const fcl::CollisionGeometry<double>*, const fcl::MotionBase<double>*,
-                                                const fcl::CollisionGeometry<double>*, const fcl::MotionBase<double>*,
-                                                const fcl::ContinuousCollisionRequest<double>&,
-                                                fcl::ContinuousCollisionResult<double>&);
+#define FCL_RS_INSTANTIATE_CONSERVATIVE_ADVANCEMENT(S)                                                   \
+  template S conservativeAdvancement<S>(const fcl::CollisionGeometry<S>*, const fcl::MotionBase<S>*,       \
+                                        const fcl::CollisionGeometry<S>*, const fcl::MotionBase<S>*,       \
+                                        const fcl::ContinuousCollisionRequest<S>&,                         \
+                                        fcl::ContinuousCollisionResult<S>&);
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_CONSERVATIVE_ADVANCEMENT)
+#undef FCL_RS_INSTANTIATE_CONSERVATIVE_ADVANCEMENT
 
 }  // namespace detail
 }  // namespace fcl_rs

@@ -1,5 +1,6 @@
 // fcl_rs::distance: dispatch of RS mesh pairs to the local-frame RS traversal, everything else to FCL.
 #include "rs_pairs.h"
+#include "scalars.h"
 #include "shape_signed_distance.h"
 #include "validated_entries.h"
 #include "fcl_rs/distance.h"
@@ -337,8 +338,7 @@ S distance(const fcl::CollisionObject<S>* o1, const fcl::CollisionObject<S>* o2,
   template S distance<S>(const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,                        \
                          const fcl::CollisionGeometry<S>*, const fcl::Transform3<S>&,                        \
                          const fcl::DistanceRequest<S>&, fcl::DistanceResult<S>&);
-FCL_RS_INSTANTIATE_DISTANCE(float)
-FCL_RS_INSTANTIATE_DISTANCE(double)
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_DISTANCE)
 #undef FCL_RS_INSTANTIATE_DISTANCE
 
 }  // namespace fcl_rs

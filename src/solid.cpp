@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "scalars.h"
 #include "fcl_rs/bv/directions.h"
 #include "fcl_rs/bvh/node_links.h"
 #include "fcl_rs/collide.h"
@@ -376,13 +377,12 @@ SolidCollisionResult<S> collideSolids(const SolidMesh<S>& a, const fcl::Transfor
   return result;
 }
 
-template class SolidMesh<float>;
-template class SolidMesh<double>;
-template SolidCollisionResult<float> collideSolids<float>(const SolidMesh<float>&, const fcl::Transform3<float>&,
-                                                          const SolidMesh<float>&, const fcl::Transform3<float>&,
-                                                          const SolidCollisionRequest&);
-template SolidCollisionResult<double> collideSolids<double>(const SolidMesh<double>&, const fcl::Transform3<double>&,
-                                                            const SolidMesh<double>&, const fcl::Transform3<double>&,
-                                                            const SolidCollisionRequest&);
+#define FCL_RS_INSTANTIATE_SOLID(S)                                                                          \
+  template class SolidMesh<S>;                                                                               \
+  template SolidCollisionResult<S> collideSolids<S>(const SolidMesh<S>&, const fcl::Transform3<S>&,          \
+                                                    const SolidMesh<S>&, const fcl::Transform3<S>&,          \
+                                                    const SolidCollisionRequest&);
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_SOLID)
+#undef FCL_RS_INSTANTIATE_SOLID
 
 }  // namespace fcl_rs

@@ -9,6 +9,7 @@
 #include <string>
 #include <type_traits>
 
+#include "scalars.h"
 #include "fcl_rs/traversal/shape_switch.h"
 
 namespace fcl_rs {
@@ -144,7 +145,9 @@ void requireValidShape(const fcl::CollisionGeometry<S>* geometry, const char* ap
       [] {});
 }
 
-template void requireValidShape<float>(const fcl::CollisionGeometry<float>*, const char*, const char*);
-template void requireValidShape<double>(const fcl::CollisionGeometry<double>*, const char*, const char*);
+#define FCL_RS_INSTANTIATE_SHAPE_CHECK(S) \
+  template void requireValidShape<S>(const fcl::CollisionGeometry<S>*, const char*, const char*);
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_SHAPE_CHECK)
+#undef FCL_RS_INSTANTIATE_SHAPE_CHECK
 
 }  // namespace fcl_rs

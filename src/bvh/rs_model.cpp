@@ -3,7 +3,10 @@
 #include "fcl_rs/bv/rs.h"
 #include "fcl_rs/bvh/build_model.h"
 
-FCL_RS_BVH_MODEL_MEMBERS(template, fcl_rs::RSf)
-FCL_RS_BVH_MODEL_MEMBERS(template, fcl_rs::RSd)
-FCL_RS_BUILD_MODEL_FUNCTIONS(template, fcl_rs::RSf)
-FCL_RS_BUILD_MODEL_FUNCTIONS(template, fcl_rs::RSd)
+#include "../scalars.h"
+
+#define FCL_RS_INSTANTIATE_RS_MODEL(S)                     \
+  FCL_RS_BVH_MODEL_MEMBERS(template, fcl_rs::RS<S>)        \
+  FCL_RS_BUILD_MODEL_FUNCTIONS(template, fcl_rs::RS<S>)
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_RS_MODEL)
+#undef FCL_RS_INSTANTIATE_RS_MODEL

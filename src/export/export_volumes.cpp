@@ -9,6 +9,7 @@
 #include <assimp/material.h>
 #include <assimp/scene.h>
 
+#include "../scalars.h"
 #include "fcl_rs/bvh/build_model.h"
 
 namespace fcl_rs {
@@ -101,8 +102,10 @@ VolumeSet exportVolumes(const TriangleMesh<S>& mesh, BVType type, const NodeSele
   throw std::invalid_argument("fcl_rs::exportVolumes: unknown BV type");
 }
 
-template VolumeSet exportVolumes<float>(const TriangleMesh<float>&, BVType, const NodeSelection&, FrameFit);
-template VolumeSet exportVolumes<double>(const TriangleMesh<double>&, BVType, const NodeSelection&, FrameFit);
+#define FCL_RS_INSTANTIATE_EXPORT(S) \
+  template VolumeSet exportVolumes<S>(const TriangleMesh<S>&, BVType, const NodeSelection&, FrameFit);
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_EXPORT)
+#undef FCL_RS_INSTANTIATE_EXPORT
 
 Eigen::Vector3d volumeColor(std::size_t i)
 {

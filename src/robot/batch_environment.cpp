@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "../scalars.h"
+
 namespace fcl_rs {
 
 namespace {
@@ -78,8 +80,7 @@ MotionBatchResult<S> motionBatch(const Environment<S>& environment, const Config
   template MotionBatchResult<S> motionBatch<S>(const Environment<S>&, const ConfigurationsRef<S>&,          \
                                                const ConfigurationsRef<S>&, const MotionRequest<S>&,        \
                                                const BatchOptions&);
-FCL_RS_INSTANTIATE_ENVIRONMENT_BATCH(float)
-FCL_RS_INSTANTIATE_ENVIRONMENT_BATCH(double)
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_ENVIRONMENT_BATCH)
 #undef FCL_RS_INSTANTIATE_ENVIRONMENT_BATCH
 
 }  // namespace fcl_rs

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "../scalars.h"
+
 namespace fcl_rs {
 
 template <typename S>
@@ -45,8 +47,7 @@ SelfCollisionBatchResult<S> selfCollisionBatch(const SelfCollision<S>& checker,
   template SelfCollisionBatchResult<S> selfCollisionBatch<S>(                                   \
       const SelfCollision<S>&, const ConfigurationsRef<S>&, const SelfCheckRequest&,          \
       const BatchOptions&);
-FCL_RS_INSTANTIATE_SELF_COLLISION_BATCH(float)
-FCL_RS_INSTANTIATE_SELF_COLLISION_BATCH(double)
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_SELF_COLLISION_BATCH)
 #undef FCL_RS_INSTANTIATE_SELF_COLLISION_BATCH
 
 }  // namespace fcl_rs

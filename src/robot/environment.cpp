@@ -21,6 +21,7 @@
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/detail/gjk_solver_libccd.h>
 
+#include "../scalars.h"
 #include "../validated_entries.h"
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/bvh/build_model.h"
@@ -1117,7 +1118,8 @@ MotionResult<S> Environment<S>::checkPath(const std::vector<fcl::VectorX<S>>& wa
   return impl_->checkPath(waypoints, request);
 }
 
-template class Environment<float>;
-template class Environment<double>;
+#define FCL_RS_INSTANTIATE_ENVIRONMENT(S) template class Environment<S>;
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_ENVIRONMENT)
+#undef FCL_RS_INSTANTIATE_ENVIRONMENT
 
 }  // namespace fcl_rs

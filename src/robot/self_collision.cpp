@@ -25,6 +25,7 @@
 #include <fcl/narrowphase/detail/traversal/collision/mesh_shape_collision_traversal_node.h>
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
+#include "../scalars.h"
 #include "../validated_entries.h"
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/bv/rs_fit.h"
@@ -880,7 +881,8 @@ LinkSphere<S> SelfCollision<S>::linkSphere(int link) const
   return {impl_->links[link].center, impl_->links[link].radius};
 }
 
-template class SelfCollision<float>;
-template class SelfCollision<double>;
+#define FCL_RS_INSTANTIATE_SELF_COLLISION(S) template class SelfCollision<S>;
+FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_SELF_COLLISION)
+#undef FCL_RS_INSTANTIATE_SELF_COLLISION
 
 }  // namespace fcl_rs
