@@ -63,19 +63,21 @@ public:
     for (const Joint& j : joints_)
     {
       // The joint's transform in its parent's frame, then one rotation and one translation into the root frame.
-      fcl::Matrix3<S> linear = j.linear;
-      fcl::Vector3<S> translation = j.translation;
-      if (j.variable >= 0)
-      {
-        const S value = j.multiplier * q[j.variable] + j.offset;
-        if (j.type == JointType::kPrismatic)
-          translation += j.slide * value;
-        else
-          linear += std::cos(value) * j.cos_part + std::sin(value) * j.sin_part;
-      }
       const fcl::Transform3<S>& parent = poses[j.parent];
       fcl::Transform3<S>& pose = poses[j.child];
-      pose.linear().noalias() = parent.linear() * linear;
+      fcl::Vector3<S> translation = j.translation;
+      const bool moves = j.variable >= 0;
+      const S value = moves ? j.multiplier * q[j.variable] + j.offset : S(0);
+      if (moves && j.type == JointType::kPrismatic) translation += j.slide * value;
+      if (moves && j.type != JointType::kPrismatic)
+      {
+        const fcl::Matrix3<S> linear = j.linear + std::cos(value) * j.cos_part + std::sin(value) * j.sin_part;
+        pose.linear().noalias() = parent.linear() * linear;
+      }
+      else if (j.identity)  // the product would give the parent's rotation again
+        pose.linear() = parent.linear();
+      else
+        pose.linear().noalias() = parent.linear() * j.linear;
       pose.translation().noalias() = parent.linear() * translation;
       pose.translation() += parent.translation();
     }
@@ -116,6 +118,7 @@ private:
     fcl::Vector3<S> translation;  ///< O.t
     fcl::Matrix3<S> cos_part, sin_part;  ///< O.R (I - a a^T) and O.R [a]x (revolute joints)
     fcl::Vector3<S> slide;  ///< O.R a (prismatic joints)
+    bool identity;  ///< linear is the identity (a fixed or prismatic joint whose origin does not rotate)
   };
 
   /// The joint's parts, computed in double (the model's precision) and rounded once to S.
@@ -139,6 +142,7 @@ private:
     joint.cos_part = (R - along).cast<S>();
     joint.sin_part = (R * cross).cast<S>();
     joint.slide = (R * a).cast<S>();
+    joint.identity = joint.linear == fcl::Matrix3<S>::Identity();
     return joint;
   }
 
