@@ -468,9 +468,10 @@ struct SelfCollision<S>::Impl
     return double(rounded) > bound ? std::nextafter(rounded, -std::numeric_limits<S>::infinity()) : rounded;
   }
 
+  /// Whether links a and b collide, for links whose spheres overlap (spheresApart is the caller's: most pairs end
+  /// there, and the test costs about as much as the call).
   bool collides(const Placement& placement, int a, int b, QueryStats* stats) const
   {
-    if (spheresApart(placement, a, b)) return false;
     // The spheres of links that are near each other overlap in most configurations; their RS volumes are far
     // tighter and one test is cheaper than setting up the element queries it usually rules out.
     if (bv == BVType::kRS && !boundsOverlap(placement, a, b)) return false;
@@ -507,10 +508,9 @@ struct SelfCollision<S>::Impl
       // Consecutive checks of a planner are near each other, so the pair that collided last often collides
       // again: it goes first.
       const int hint = last_hit.load(std::memory_order_relaxed);
-      if (hint >= 0 && collides(placement, pairs[hint].first, pairs[hint].second, stats))
-        return {pairs[hint]};
+      if (hint >= 0 && pairCollides(placement, pairs[hint], stats)) return {pairs[hint]};
       for (int i = 0; i < int(pairs.size()); ++i)
-        if (i != hint && collides(placement, pairs[i].first, pairs[i].second, stats))
+        if (i != hint && pairCollides(placement, pairs[i], stats))
         {
           last_hit.store(i, std::memory_order_relaxed);
           return {pairs[i]};
@@ -518,8 +518,14 @@ struct SelfCollision<S>::Impl
       return colliding;
     }
     for (const LinkPair& p : pairs)
-      if (collides(placement, p.first, p.second, stats)) colliding.push_back(p);
+      if (pairCollides(placement, p, stats)) colliding.push_back(p);
     return colliding;
+  }
+
+  /// The spheres' test, then collides for the few pairs it leaves.
+  bool pairCollides(const Placement& placement, const LinkPair& p, QueryStats* stats) const
+  {
+    return !spheresApart(placement, p.first, p.second) && collides(placement, p.first, p.second, stats);
   }
 
   /// A candidate of the minimum-distance search: a link pair, or one element pair of it, with a lower bound on
