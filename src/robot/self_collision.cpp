@@ -397,14 +397,13 @@ struct SelfCollision<S>::Impl
 
   Impl(const RobotModel& robot, BVType bv_type) : bv(bv_type), kinematics(robot) {}
 
-  /// Fills p.spheres from p.poses. The pad, 1e-5 of the radius and of the centre's distance from the root,
-  /// covers the rounding of moving the centres and of comparing their distance, so the gap between two spheres
-  /// is never more than the geometries'.
+  /// Fills p.spheres from p.poses for the links of the pair list (the others' are left as they were). The pad,
+  /// 1e-5 of the radius and of the centre's distance from the root, covers the rounding of moving the centres and
+  /// of comparing their distance, so the gap between two spheres is never more than the geometries'.
   void placeSpheres(Placement& p) const
   {
     p.spheres.resize(links.size());
-    for (std::size_t i = 0; i < links.size(); ++i)
-      p.spheres[i] = placeSphere(p.poses[i], links[i].center, links[i].radius);
+    for (int i : paired_links) p.spheres[i] = placeSphere(p.poses[i], links[i].center, links[i].radius);
   }
 
   /// A ball of the link frame placed at the link's pose, padded as placeSpheres says.
@@ -632,6 +631,7 @@ struct SelfCollision<S>::Impl
   std::vector<std::string> names;
   std::vector<Link> links;
   std::vector<LinkPair> pairs;
+  std::vector<int> paired_links;  ///< the links of pairs, ascending: the only spheres a check places
   std::unique_ptr<MeshTrees<S>> trees;
   std::vector<Tf<S>> poses;  ///< scratch of the non-const checks
   Placement placement;       ///< their placement, of poses
@@ -765,6 +765,10 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
     for (int b = a + 1; b < n; ++b)
       if (robot.links[a].hasGeometry() && robot.links[b].hasGeometry() && !skip.count({a, b}))
         impl_->pairs.emplace_back(a, b);
+  for (int i = 0; i < n; ++i)
+    if (std::any_of(impl_->pairs.begin(), impl_->pairs.end(),
+                    [i](const LinkPair& p) { return p.first == i || p.second == i; }))
+      impl_->paired_links.push_back(i);
 }
 
 template <typename S>
