@@ -378,6 +378,9 @@ struct SelfCollision<S>::Impl
     fcl::Vector3<S> center = fcl::Vector3<S>::Zero();  ///< bounding sphere in the link frame
     S radius = 0;
     RS<S> bound;  ///< every element in one RS volume, in the link frame (RS checks test it after the spheres)
+    /// bound's frame for the pair test, made once: a check only moves it (BoxedFrame::move), the parts that do
+    /// not depend on the motion (box, diagonal slabs) are kept.
+    detail::BoxedFrame<S> bound_frame;
     std::vector<Element> elements;  ///< the mesh first, then the shapes
   };
 
@@ -433,7 +436,9 @@ struct SelfCollision<S>::Impl
     const Tf<S>& tb = p.poses[b];
     const fcl::Matrix3<S> R = ta.linear().transpose() * tb.linear();
     const fcl::Vector3<S> T = ta.linear().transpose() * (tb.translation() - ta.translation());
-    return overlap(R, T, links[a].bound, links[b].bound, kDefaultOverlapTest, worldOffsets(ta, tb));
+    detail::BoxedFrame<S> moved = links[b].bound_frame;
+    moved.move(R, T, links[b].bound, worldOffsets(ta, tb));
+    return detail::overlap(moved, links[a].bound, links[b].bound, kDefaultOverlapTest);
   }
 
   /// A lower bound on the distance between RS volumes a and b of the link frames posed by ta and tb.
@@ -726,6 +731,7 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       shape.hull_points = triangle_shape::HullPoints(std::move(corners));
       link.elements.push_back(shape);
     }
+    link.bound_frame = detail::BoxedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), link.bound);
   }
   for (typename Impl::Link& link : impl_->links)
     for (typename Impl::Element& element : link.elements)
