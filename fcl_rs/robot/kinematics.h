@@ -66,18 +66,20 @@ public:
       const fcl::Transform3<S>& parent = poses[j.parent];
       fcl::Transform3<S>& pose = poses[j.child];
       fcl::Vector3<S> translation = j.translation;
-      const bool moves = j.variable >= 0;
-      const S value = moves ? j.multiplier * q[j.variable] + j.offset : S(0);
-      if (moves && j.type == JointType::kPrismatic) translation += j.slide * value;
-      if (moves && j.type != JointType::kPrismatic)
+      const S value = j.variable >= 0 ? j.multiplier * q[j.variable] + j.offset : S(0);
+      if (j.variable >= 0 && j.type != JointType::kPrismatic)
       {
         const fcl::Matrix3<S> linear = j.linear + std::cos(value) * j.cos_part + std::sin(value) * j.sin_part;
         pose.linear().noalias() = parent.linear() * linear;
       }
-      else if (j.identity)  // the product would give the parent's rotation again
-        pose.linear() = parent.linear();
       else
-        pose.linear().noalias() = parent.linear() * j.linear;
+      {
+        if (j.variable >= 0) translation += j.slide * value;
+        if (j.identity)  // the product would give the parent's rotation again
+          pose.linear() = parent.linear();
+        else
+          pose.linear().noalias() = parent.linear() * j.linear;
+      }
       pose.translation().noalias() = parent.linear() * translation;
       pose.translation() += parent.translation();
     }
