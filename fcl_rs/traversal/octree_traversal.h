@@ -48,12 +48,15 @@ struct CellBox
   /// this box's centre() (a split computes it once for its eight children).
   CellBox child(unsigned int i, const fcl::Vector3<S>& mid) const
   {
+    // Chosen by index, not by a branch: which children a split keeps varies from split to split.
+    const fcl::Vector3<S>* lower[2] = {&min, &mid};
+    const fcl::Vector3<S>* upper[2] = {&mid, &max};
     CellBox c;
     for (int k = 0; k < 3; ++k)
     {
-      const bool upper = (i >> k) & 1;
-      c.min[k] = upper ? mid[k] : min[k];
-      c.max[k] = upper ? max[k] : mid[k];
+      const unsigned int half = (i >> k) & 1;
+      c.min[k] = (*lower[half])[k];
+      c.max[k] = (*upper[half])[k];
     }
     return c;
   }
@@ -65,6 +68,30 @@ struct CellBox
     return box;
   }
 };
+
+/// An octomap node's children, read inline: fcl::OcTree's accessors are out-of-line calls into libfcl.so (and
+/// octomap's), one per child per split, and octomap keeps the array protected (read here through a derived
+/// class, as octomap's trees read it).
+struct OcTreeChildren : octomap::OcTreeNode
+{
+  /// Bit i set: child i exists (fcl::OcTree::nodeChildExists); 0 for a leaf (nodeHasChildren is false).
+  static unsigned int mask(const octomap::OcTreeNode* node)
+  {
+    octomap::AbstractOcTreeNode* const* children = node->*(&OcTreeChildren::children);
+    if (!children) return 0;
+    unsigned int bits = 0;
+    for (unsigned int i = 0; i < 8; ++i) bits |= unsigned(children[i] != nullptr) << i;
+    return bits;
+  }
+  /// Child i, which exists (fcl::OcTree::getNodeChild).
+  static const octomap::OcTreeNode* child(const octomap::OcTreeNode* node, unsigned int i)
+  {
+    return static_cast<const octomap::OcTreeNode*>((node->*(&OcTreeChildren::children))[i]);
+  }
+};
+
+/// The lowest set bit's index of a non-zero mask.
+inline unsigned int lowestBit(unsigned int mask) { return unsigned(__builtin_ctz(mask)); }
 
 /// The cells of one size of a query: their box at the octree's origin as an RS (half extents `half`), and that RS
 /// moved into the mesh's frame; a cell of that shape moves it to its centre (OcTreeCell).
@@ -82,7 +109,8 @@ struct OcTreeCellShape
   /// millionth larger (a larger shape only prunes a little less).
   static bool fits(const fcl::Vector3<S>& made, const fcl::Vector3<S>& half)
   {
-    return (made.array() >= half.array()).all() && (made.array() <= half.array() * S(1 + 1e-6)).all();
+    // Signs of differences (exact), compared once rather than a branch per axis.
+    return std::min((made - half).minCoeff(), (half * S(1 + 1e-6) - made).minCoeff()) >= 0;
   }
   /// A box's half extents, its RS and that RS's boxed frame (at the identity motion: a query moves it).
   struct MadeBox
@@ -179,7 +207,7 @@ public:
     if (!octree_.getRoot()) return false;
     const CellBox<S> box = rootBox();
     const OcTreeNode* node = octree_.getRoot();
-    pair = Pair{0, addCell(node, !octree_.nodeHasChildren(node), box, cellShape((box.max - box.min) / 2))};
+    pair = Pair{0, addCell(node, OcTreeChildren::mask(node) == 0, box, cellShape((box.max - box.min) / 2))};
     return true;
   }
   /// The root pair of a pruned descent (children() with `pruned`), moved down by skipSingleSplits; false for an
@@ -273,19 +301,21 @@ public:
     const CellBox<S> box = cells_[std::size_t(v.cell)].box;
     const fcl::Vector3<S> mid = box.centre();
     const NodeBox* mesh_node = pruned || nearer_first ? &nodeBox(v.b1) : nullptr;
+    const S tol = pruned ? childTolerance(*mesh_node, box) : S(0);
     const OcTreeNode* child_nodes[8];
     CellBox<S> child_boxes[8];
     bool moved[8], leaf[8];
     fcl::Vector3<S> half = fcl::Vector3<S>::Zero();  // of the children not moved down
     bool any_in_place = false;
     int n = 0;
-    for (unsigned int i = 0; i < 8; ++i)
+    const unsigned int existing = OcTreeChildren::mask(node);
+    for (unsigned int rest = unknown_cells ? 0xffu : existing; rest; rest &= rest - 1)
     {
-      const bool exists = octree_.nodeChildExists(node, i);
-      if (!exists && !unknown_cells) continue;
+      const unsigned int i = lowestBit(rest);
+      const bool exists = (existing >> i) & 1;
       child_boxes[n] = box.child(i, mid);
-      if (pruned && boxesApart(*mesh_node, child_boxes[n])) continue;
-      child_nodes[n] = exists ? octree_.getNodeChild(node, i) : nullptr;
+      if (pruned && boxesApart(*mesh_node, child_boxes[n], tol)) continue;
+      child_nodes[n] = exists ? OcTreeChildren::child(node, i) : nullptr;
       moved[n] = false;
       leaf[n] = !exists;
       if (pruned && exists)
@@ -296,7 +326,7 @@ public:
         moved[n] = child_nodes[n] != reached;
       }
       else if (exists)
-        leaf[n] = !octree_.nodeHasChildren(child_nodes[n]);
+        leaf[n] = OcTreeChildren::mask(child_nodes[n]) == 0;
       if (!moved[n])
       {
         half = half.cwiseMax((child_boxes[n].max - child_boxes[n].min) / 2);
@@ -370,24 +400,25 @@ private:
     const BVNode& n1 = mesh_.getBV(b);
     for (;;)
     {
-      leaf = !octree_.nodeHasChildren(node);
+      const unsigned int existing = OcTreeChildren::mask(node);
+      leaf = existing == 0;
       if (leaf || (!isLeaf(n1) && n1.bv.size() > box.size())) return true;
       int kept = -1, num_kept = 0;
       CellBox<S> kept_box = box;  // set when a child is kept
       const fcl::Vector3<S> mid = box.centre();
-      for (unsigned int i = 0; i < 8 && num_kept < 2; ++i)
+      const S tol = childTolerance(mesh_node, box);
+      for (unsigned int rest = unknown_cells ? 0xffu : existing; rest && num_kept < 2; rest &= rest - 1)
       {
-        const bool exists = octree_.nodeChildExists(node, i);
-        if (!exists && !unknown_cells) continue;
+        const unsigned int i = lowestBit(rest);
         const CellBox<S> child_box = box.child(i, mid);
-        if (boxesApart(mesh_node, child_box)) continue;
+        if (boxesApart(mesh_node, child_box, tol)) continue;
         ++num_kept;
-        kept = exists ? int(i) : -1;
+        kept = (existing >> i) & 1 ? int(i) : -1;
         kept_box = child_box;
       }
       if (num_kept != 1 || kept < 0) return true;
       if (pruned(node)) return false;
-      node = octree_.getNodeChild(node, unsigned(kept));
+      node = OcTreeChildren::child(node, unsigned(kept));
       box = kept_box;
     }
   }
@@ -395,13 +426,20 @@ private:
   /// more than the rounding bound of a pair test of the two (pairRoundingBound of the node's, the cell's and the
   /// leaf tolerance's offsets, as addCell's, and of both reaches): then the RS test of the pair, and every leaf test
   /// below it, would find them apart as well.
-  bool boxesApart(const NodeBox& node, const CellBox<S>& box) const
+  /// `tol` is childTolerance(node, parent) of the cell's parent box.
+  bool boxesApart(const NodeBox& node, const CellBox<S>& box, S tol) const
   {
     const fcl::Vector3<S> half = (box.max - box.min) / 2;
-    const fcl::Vector3<S> centre = box.centre();
-    const S h = half.maxCoeff();
-    const S tol = pairRoundingBound<S>(node.offsets + cellOffsets(centre, h), node.reach + h);
-    return (((centre - node.centre).cwiseAbs() - half - node.half).array() > tol).any();
+    // The largest gap against the tolerance: one comparison, not a branch per axis.
+    return ((box.centre() - node.centre).cwiseAbs() - half - node.half).maxCoeff() > tol;
+  }
+  /// boxesApart's tolerance for every child of the cell box `parent` (centre c, half extent h), computed once per
+  /// split: a child's centre c' and half extent h / 2 give cellOffsets(c', h / 2) <= cellOffsets(c, h) (|c'|_1 <=
+  /// |c|_1 + 3 h / 2) and a smaller reach, and the bound grows with both.
+  S childTolerance(const NodeBox& node, const CellBox<S>& parent) const
+  {
+    const S h = ((parent.max - parent.min) / 2).maxCoeff();
+    return pairRoundingBound<S>(node.offsets + cellOffsets(parent.centre(), h), node.reach + h);
   }
   /// The leaf tolerance's terms for a cell at centre c with half extent h and every cell inside it (addCell).
   S cellOffsets(const fcl::Vector3<S>& c, S h) const
