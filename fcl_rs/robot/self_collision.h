@@ -78,10 +78,10 @@ struct BodyHull
 };
 
 /// A triangle mesh's hull: its distinct vertices, walked along its edges (HullPoints), about the centre of their
-/// box. `convex`: whether every triangle's plane has all the vertices on one side (to 1e-2 of their reach), so that
-/// the mesh's distance to a convex body is its hull's.
+/// box. `convex`, when given: whether every triangle's plane has all the vertices on one side (to 1e-2 of their
+/// reach), so that the mesh's distance to a convex body is its hull's.
 template <typename S>
-BodyHull<S> meshHull(const TriangleMesh<S>& mesh, bool& convex);
+BodyHull<S> meshHull(const TriangleMesh<S>& mesh, bool* convex = nullptr);
 
 /// Self-collision checker for one robot and one BV type.
 ///
@@ -151,18 +151,17 @@ public:
   /// A lower bound on the distance between the links of pairs()[pair] at the poses (as queryPoses takes them), as
   /// cheap as `enough` allows (for motion checks, fcl_rs/robot/environment.h): the minimum-distance search on that
   /// pair alone, started at `enough`, so each bound stops it once it reaches `enough`. Below `enough` the answer is
-  /// the distance as minimum_distance measures it, except that without `measure_convex` two convex elements
-  /// (Panda-like meshes, the URDF shapes) are not measured: their hulls' distance is the bound, less than the
-  /// distance by a rounding margin only. 0 or less for touching links. Thread-safe as query; throws
+  /// the distance as minimum_distance measures it; without `measure`, the distance of the elements' hulls (for
+  /// convex elements, Panda-like meshes and the URDF shapes, the distance less a rounding margin; for others
+  /// less). 0 or less for touching links. Thread-safe as query; throws
   /// std::invalid_argument for KDOP18 and OBB (as query with minimum_distance) and for a pair or poses out of range.
-  S pairDistanceBound(const std::vector<fcl::Transform3<S>>& poses, int pair, S enough, bool measure_convex) const;
+  S pairDistanceBound(const std::vector<fcl::Transform3<S>>& poses, int pair, S enough, bool measure) const;
 
   /// A lower bound on the distance between the link at `pose` and a body whose hull is `body` at `body_pose`: the
   /// smallest of GJK's bounds between each element's hull and the body's (as pairDistanceBound bounds elements),
-  /// each stopped once it reaches `enough`. `link_convex`: whether every element of the link is convex, so that
-  /// the bound is the distance to the body's hull less a rounding margin.
+  /// each stopped once it reaches `enough`.
   S hullDistanceBound(int link, const fcl::Transform3<S>& pose, const BodyHull<S>& body,
-                      const fcl::Transform3<S>& body_pose, S enough, bool& link_convex) const;
+                      const fcl::Transform3<S>& body_pose, S enough) const;
 
   /// The link's collision elements, for queries against other geometry (empty for a link without geometry).
   /// Throws std::invalid_argument for KDOP18, whose trees live in the world frame.
@@ -177,7 +176,7 @@ private:
 
 #define FCL_RS_DECLARE_SELF_COLLISION(S)  \
   extern template class SelfCollision<S>; \
-  extern template BodyHull<S> meshHull(const TriangleMesh<S>&, bool&);
+  extern template BodyHull<S> meshHull(const TriangleMesh<S>&, bool*);
 FCL_RS_DECLARE_SELF_COLLISION(float)
 FCL_RS_DECLARE_SELF_COLLISION(double)
 #undef FCL_RS_DECLARE_SELF_COLLISION

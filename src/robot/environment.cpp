@@ -208,12 +208,10 @@ struct Heights
 };
 
 /// An obstacle shape's hull in its own frame (SelfCollision::hullDistanceBound), for a box, sphere, capsule or
-/// cylinder (a 16-gon prism about it); none for other shapes. `is_body`: whether the hull is the shape, or nearly
-/// (the prism: within 2 % of the cylinder's radius), so that its bound is worth no measurement.
+/// cylinder (a 16-gon prism about it, within 2 % of its radius); none for other shapes.
 template <typename S>
-std::optional<BodyHull<S>> shapeHull(const fcl::CollisionGeometry<S>& geometry, bool& is_body)
+std::optional<BodyHull<S>> shapeHull(const fcl::CollisionGeometry<S>& geometry)
 {
-  is_body = true;
   return detail::withShape(
       geometry,
       [&](const auto& shape) -> std::optional<BodyHull<S>> {
@@ -344,10 +342,8 @@ struct Environment<S>::Impl
     const fcl::BVHModel<RS<S>>* rs_mesh = nullptr;
     std::optional<RS<S>> shape_bv;
     /// A box's, sphere's, capsule's, cylinder's or mesh's hull, which motion checks bound link distances with
-    /// (SelfCollision::hullDistanceBound) before they measure; hull_is_body: the bound needs no measurement (the
-    /// obstacle is its hull, or nearly: shapeHull, a convex mesh).
+    /// (SelfCollision::hullDistanceBound).
     std::optional<BodyHull<S>> hull;
-    bool hull_is_body = false;
     /// Per link that no joint moves (Impl::fixed_pose): whether it touches the obstacle, decided when the obstacle
     /// is added, moved or refreshed, since no configuration changes the answer.
     std::vector<std::uint8_t> fixed_link_hits;
@@ -437,14 +433,13 @@ struct Environment<S>::Impl
 
   /// Adds an obstacle; a mesh's hull comes with it (meshHull), a shape's is made here (shapeHull).
   void add(const std::string& name, std::shared_ptr<fcl::CollisionGeometry<S>> geometry, const Tf<S>& pose,
-           std::optional<BodyHull<S>> hull = std::nullopt, bool hull_is_body = false)
+           std::optional<BodyHull<S>> hull = std::nullopt)
   {
     Obstacle o;
     o.name = name;
     o.geometry = std::move(geometry);
     o.hull = std::move(hull);
-    o.hull_is_body = hull_is_body;
-    if (!o.hull) o.hull = shapeHull(*o.geometry, o.hull_is_body);
+    if (!o.hull) o.hull = shapeHull(*o.geometry);
     o.pose = pose;
     o.from_world = pose.inverse(Eigen::Isometry);
     o.flat = flatAt(*o.geometry, pose);
@@ -840,17 +835,17 @@ struct Environment<S>::Impl
   }
 
   /// A lower bound on the pair's distance at s, as cheap as reaching `enough` allows: SelfCollision's search for
-  /// self pairs; for obstacles the hulls' bound, then the distance with kMotionDistanceError started at enough.
-  /// Without `measure_convex`, convex bodies are not measured (their hulls' bound is nearly the distance).
-  S lowerBound(const Sample& s, const MotionPair& p, S enough, bool measure_convex) const
+  /// self pairs; for obstacles the hulls' bound, then (obstacles without a hull) the distance with
+  /// kMotionDistanceError started at enough. Without `measure`, bodies with hulls are not measured: the hulls'
+  /// distance is a lower bound whatever their shapes, and nearly the distance for convex ones.
+  S lowerBound(const Sample& s, const MotionPair& p, S enough, bool measure) const
   {
-    if (p.other_link >= 0) return self.pairDistanceBound(s.poses, p.self_pair, enough, measure_convex);
+    if (p.other_link >= 0) return self.pairDistanceBound(s.poses, p.self_pair, enough, measure);
     const Obstacle& o = obstacles[p.obstacle];
     if (o.hull)
     {
-      bool link_convex = false;
-      const S d = self.hullDistanceBound(p.link, s.poses[p.link], *o.hull, o.pose, enough, link_convex);
-      if (!(d < enough) || (!measure_convex && link_convex && o.hull_is_body)) return d;
+      const S d = self.hullDistanceBound(p.link, s.poses[p.link], *o.hull, o.pose, enough);
+      if (!(d < enough) || !measure) return d;
     }
     const S err = S(kMotionDistanceError);
     return linkDistance(p.link, s.poses[p.link], obstacles[p.obstacle], enough * S(1 + err), nullptr, err) /
@@ -864,7 +859,7 @@ struct Environment<S>::Impl
   {
     if (!(enough > s.asked[i])) return;
     ++result.distance_queries;
-    S d = lowerBound(s, p, enough, /*measure_convex=*/false);
+    S d = lowerBound(s, p, enough, /*measure=*/false);
     if (d <= contact)
     {
       const bool self_pair = p.other_link >= 0;
@@ -878,7 +873,7 @@ struct Environment<S>::Impl
         return;
       }
       ++result.distance_queries;
-      d = lowerBound(s, p, enough, /*measure_convex=*/true);
+      d = lowerBound(s, p, enough, /*measure=*/true);
     }
     s.bound[i] = std::max(s.bound[i], d);
     // Below `enough` the answer is final: asking for more finds no more.
@@ -1069,9 +1064,7 @@ void Environment<S>::addMesh(const std::string& name, const TriangleMesh<S>& mes
 {
   impl_->checkNewName(name);
   requireRigidTransform(pose, kApi, ("the pose of obstacle '" + name + "'").c_str());
-  bool convex = false;
-  BodyHull<S> hull = meshHull(mesh, convex);
-  impl_->add(name, buildTree<S>(impl_->bv, mesh), pose, std::move(hull), convex);
+  impl_->add(name, buildTree<S>(impl_->bv, mesh), pose, meshHull(mesh));
 }
 
 #if FCL_HAVE_OCTOMAP

@@ -360,7 +360,7 @@ double reachOf(const BodyHull<S>& hull)
 }  // namespace
 
 template <typename S>
-BodyHull<S> meshHull(const TriangleMesh<S>& mesh, bool& convex)
+BodyHull<S> meshHull(const TriangleMesh<S>& mesh, bool* convex)
 {
   // Distinct vertices only (a mesh file may repeat each vertex per triangle): GJK's scans meet each once, and
   // its walks follow the triangles' edges between them.
@@ -382,7 +382,7 @@ BodyHull<S> meshHull(const TriangleMesh<S>& mesh, bool& convex)
           std::size_t(std::lower_bound(points.begin(), points.end(), exact.vertices[t[k]], before) - points.begin());
     triangles.push_back(ids);
   }
-  convex = convexPosition(exact, points);
+  if (convex) *convex = convexPosition(exact, points);
   fcl::Vector3d lo = fcl::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const fcl::Vector3d& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   BodyHull<S> hull;
@@ -602,22 +602,22 @@ struct SelfCollision<S>::Impl
     for (std::size_t i = 0; i < pairs.size(); ++i)
       waiting.push_back({sphereGap(placement.spheres[pairs[i].first], placement.spheres[pairs[i].second]), int(i),
                          0, 0, Stage::kLinkSpheres});
-    return nearest(placement.poses, std::move(waiting), std::numeric_limits<S>::infinity(), /*measure_convex=*/true);
+    return nearest(placement.poses, std::move(waiting), std::numeric_limits<S>::infinity(), /*measure=*/true);
   }
 
   /// A lower bound on the distance of pairs[pair] at the poses, by the same search started at `enough`.
-  S pairDistanceBound(const Tf<S>* poses, int pair, S enough, bool measure_convex) const
+  S pairDistanceBound(const Tf<S>* poses, int pair, S enough, bool measure) const
   {
     const int a = pairs[pair].first, b = pairs[pair].second;
     const S gap = sphereGap(placeSphere(poses[a], links[a].center, links[a].radius),
                             placeSphere(poses[b], links[b].center, links[b].radius));
-    return nearest(poses, {{gap, pair, 0, 0, Stage::kLinkSpheres}}, enough, measure_convex);
+    return nearest(poses, {{gap, pair, 0, 0, Stage::kLinkSpheres}}, enough, measure);
   }
 
   /// The search of minimumDistance over the candidates `seeds` (any order), with `best` the distance that is
-  /// enough: the answer is the smallest distance below it, else `best`. Without measure_convex, a pair of convex
-  /// elements is not measured: its hulls' distance (the distance less the margin of hullDistance) is its bound.
-  S nearest(const Tf<S>* poses, std::vector<Candidate> seeds, S best, bool measure_convex) const
+  /// enough: the answer is the smallest distance below it, else `best`. Without `measure` no element pair is
+  /// measured: its hulls' distance is its bound (for convex elements the distance less the margin of hullDistance).
+  S nearest(const Tf<S>* poses, std::vector<Candidate> seeds, S best, bool measure) const
   {
     const auto farther = [](const Candidate& x, const Candidate& y) { return x.bound > y.bound; };
     std::vector<Candidate> waiting = std::move(seeds);  // a min-heap on bound
@@ -676,7 +676,7 @@ struct SelfCollision<S>::Impl
           const Element& ea = la.elements[c.element_a];
           const Element& eb = lb.elements[c.element_b];
           done = true;
-          if (!measure_convex && ea.convex && eb.convex)
+          if (!measure)
           {
             best = std::min(best, c.bound);
             continue;
@@ -756,7 +756,7 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       typename Impl::Element mesh;
       mesh.center = mesh_centre.cast<S>();
       mesh.radius = S(mesh_radius * (1 + 1e-6));
-      mesh.hull = meshHull(meshes[i], mesh.convex);
+      mesh.hull = meshHull(meshes[i], &mesh.convex);
       mesh.hull.center = mesh.center;
       link.elements.push_back(mesh);  // its geometry, the tree, is set below
     }
@@ -913,7 +913,7 @@ SelfCheckResult<S> SelfCollision<S>::queryPoses(const std::vector<fcl::Transform
 
 template <typename S>
 S SelfCollision<S>::pairDistanceBound(const std::vector<fcl::Transform3<S>>& poses, int pair, S enough,
-                                      bool measure_convex) const
+                                      bool measure) const
 {
   if (impl_->bv == BVType::kKDOP18 || impl_->bv == BVType::kOBB)
     throw std::invalid_argument(std::string("fcl_rs::SelfCollision::pairDistanceBound: no distances for ") +
@@ -924,22 +924,20 @@ S SelfCollision<S>::pairDistanceBound(const std::vector<fcl::Transform3<S>>& pos
   if (poses.size() != impl_->links.size())
     throw std::invalid_argument("fcl_rs::SelfCollision::pairDistanceBound: " + std::to_string(poses.size()) +
                                 " poses for " + std::to_string(impl_->links.size()) + " links");
-  return impl_->pairDistanceBound(poses.data(), pair, enough, measure_convex);
+  return impl_->pairDistanceBound(poses.data(), pair, enough, measure);
 }
 
 template <typename S>
 S SelfCollision<S>::hullDistanceBound(int link, const fcl::Transform3<S>& pose, const BodyHull<S>& body,
-                                      const fcl::Transform3<S>& body_pose, S enough, bool& link_convex) const
+                                      const fcl::Transform3<S>& body_pose, S enough) const
 {
   if (link < 0 || link >= int(impl_->links.size()))
     throw std::invalid_argument("fcl_rs::SelfCollision::hullDistanceBound: link " + std::to_string(link) +
                                 " out of range [0, " + std::to_string(impl_->links.size()) + ")");
-  link_convex = true;
   S best = enough;
   fcl::Vector3d direction;
   for (const typename Impl::Element& e : impl_->links[link].elements)
   {
-    link_convex = link_convex && e.convex;
     best = std::min(best, Impl::hullDistance(pose, e.hull, body_pose, body, best, direction));
   }
   return best;
@@ -976,7 +974,7 @@ LinkSphere<S> SelfCollision<S>::linkSphere(int link) const
 
 #define FCL_RS_INSTANTIATE_SELF_COLLISION(S) \
   template class SelfCollision<S>;           \
-  template BodyHull<S> meshHull(const TriangleMesh<S>&, bool&);
+  template BodyHull<S> meshHull(const TriangleMesh<S>&, bool*);
 FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_SELF_COLLISION)
 #undef FCL_RS_INSTANTIATE_SELF_COLLISION
 
