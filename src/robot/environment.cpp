@@ -920,10 +920,18 @@ struct Environment<S>::Impl
       Sample& b = samples[interval.b];
       const S dt = b.t - a.t;
       std::vector<int> remaining;
+      // Once a pair stays uncertified the interval is halved anyway: the other pairs' bounds are raised on the
+      // halves, where less is enough (an interval too short to halve raises every bound).
+      const bool thorough = dt < shortest;
       for (int i : interval.active)
       {
         const S m = moved(a, step, pairs[i], dt, pad);
         if (m < a.bound[i] + b.bound[i]) continue;
+        if (!remaining.empty() && !thorough)
+        {
+          remaining.push_back(i);
+          continue;
+        }
         refine(a, pairs[i], i, m, pad, result);
         if (a.colliding) return collision(a.t, a.t);
         if (m < a.bound[i] + b.bound[i]) continue;
@@ -940,7 +948,7 @@ struct Environment<S>::Impl
       if (b.colliding && (!request.earliest || dt <= request.tolerance)) return collision(b.t, a.t);
       // A pair that stays within rounding of contact without touching: bisection cannot certify it. An interval
       // this short joins configurations a few ulps apart, which the ends' bounds or collision tests found free.
-      if (dt < shortest)
+      if (thorough)
       {
         result.free_until = b.t;
         continue;
