@@ -800,9 +800,10 @@ struct Environment<S>::Impl
     return pairs;
   }
 
-  /// The configuration at t, every pair's bound its cheap gap (see gap).
-  Sample sampleAt(const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, S t,
-                  const std::vector<MotionPair>& pairs) const
+  /// The configuration at t, the bound of each pair in `active` its cheap gap (see gap); no other pair's bound is
+  /// read there.
+  Sample sampleAt(const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, S t, const std::vector<MotionPair>& pairs,
+                  const std::vector<int>& active) const
   {
     Sample s;
     s.t = t;
@@ -810,7 +811,7 @@ struct Environment<S>::Impl
     self.kinematics().linkPoses(q, s.poses);
     placeLinks(s.poses, s.spheres);
     s.bound.resize(pairs.size());
-    for (std::size_t i = 0; i < pairs.size(); ++i) s.bound[i] = gap(s, pairs[i]);
+    for (int i : active) s.bound[i] = gap(s, pairs[i]);
     s.asked.assign(pairs.size(), 0);
     return s;
   }
@@ -891,9 +892,6 @@ struct Environment<S>::Impl
     const S shortest = std::max(S(1e-9), S(16) * std::numeric_limits<S>::epsilon());
 
     MotionResult<S> result;
-    std::vector<Sample> samples;
-    samples.push_back(sampleAt(from, to, S(0), pairs));
-    samples.push_back(sampleAt(from, to, S(1), pairs));
     struct Interval
     {
       int a, b;
@@ -905,6 +903,9 @@ struct Environment<S>::Impl
       for (std::size_t i = 0; i < pairs.size(); ++i) all.active[i] = int(i);
       stack.push_back(std::move(all));
     }
+    std::vector<Sample> samples;
+    samples.push_back(sampleAt(from, to, S(0), pairs, stack.back().active));
+    samples.push_back(sampleAt(from, to, S(1), pairs, stack.back().active));
     const auto collision = [&](S t, S free_until) {
       result.colliding = true;
       result.parameter = t;
@@ -954,7 +955,7 @@ struct Environment<S>::Impl
         continue;
       }
       const int b_index = interval.b, a_index = interval.a;
-      samples.push_back(sampleAt(from, to, S(0.5) * (a.t + b.t), pairs));  // a and b are invalid now
+      samples.push_back(sampleAt(from, to, S(0.5) * (a.t + b.t), pairs, remaining));  // a and b are invalid now
       const int mid = int(samples.size()) - 1;
       // What the ends' bounds leave at the midpoint: a bound less the most the pair moves on the way.
       Sample& start = samples[a_index];
