@@ -26,6 +26,7 @@
 #include "fcl_rs/collide.h"
 #include "fcl_rs/distance.h"
 #include "fcl_rs/robot.h"
+#include "fcl_rs/robot/link_sweeps.h"
 #ifdef FCL_RS_TEST_BATCH
 #include "fcl_rs/robot/batch_environment.h"
 #endif
@@ -457,6 +458,81 @@ TYPED_TEST(EnvironmentTest, MotionChecksAgreeWithDenseSampling)
     if (!test::kSanitized) { EXPECT_GT(colliding, 0); }
     EXPECT_LT(colliding, 2 * segments);
   }
+}
+
+/// The link `moving` joints up `link`'s chain (LinkSweeps' depth): the frame its bound is relative to.
+int linkAbove(const RobotModel& robot, int link, int moving)
+{
+  int frame = link;
+  for (int j = robot.links[link].parent_joint; j >= 0 && moving > 0; j = robot.links[frame].parent_joint)
+  {
+    frame = robot.joints[j].parent_link;
+    moving -= robot.joints[j].variable >= 0 || robot.joints[j].mimic_variable >= 0;
+  }
+  return frame;
+}
+
+TYPED_TEST(EnvironmentTest, LinkSweepsBoundThePathOfEveryVertex)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  const RobotModel& robot = *panda();
+  const SelfCollision<S> self(robot, BVType::kRS, pandaSrdf());
+  std::vector<fcl::Vector3<S>> centers;
+  std::vector<S> radii;
+  for (int i = 0; i < int(robot.links.size()); ++i)
+  {
+    centers.push_back(self.linkSphere(i).center);
+    radii.push_back(self.linkSphere(i).radius);
+  }
+  const LinkSweeps<S> sweeps(robot, self.kinematics(), centers, radii);
+  // Every link against the root, and each link of a self pair against their common ancestor.
+  std::vector<std::pair<int, int>> bounds;  // link, depth
+  for (int link = 0; link < int(robot.links.size()); ++link)
+    if (!robot.links[link].mesh.vertices.empty()) bounds.emplace_back(link, sweeps.depth(link));
+  for (const LinkPair& p : self.pairs())
+  {
+    bounds.emplace_back(p.first, sweeps.depthBelow(p.first, p.second));
+    bounds.emplace_back(p.second, sweeps.depthBelow(p.second, p.first));
+  }
+  auto rng = test::seededRng("LinkSweepsBoundThePathOfEveryVertex/" + test::scalarName<S>());
+  std::uniform_real_distribution<double> step(-1.0, 1.0), unit(0.0, 1.0);
+  const int pieces = 200;  // chords along the interval: their sum is at most the path's length
+  double tightest = std::numeric_limits<double>::infinity();
+  for (int segment = 0; segment < (test::kSanitized ? 4 : 20); ++segment)
+  {
+    const fcl::VectorX<S> from = self.kinematics().randomConfiguration(rng);
+    fcl::VectorX<S> dq(from.size());
+    for (int v = 0; v < dq.size(); ++v) dq[v] = S(step(rng)) * (v == dq.size() - 1 ? S(0.04) : S(1));
+    double t0 = unit(rng), t1 = unit(rng);
+    if (t0 > t1) std::swap(t0, t1);
+    std::vector<std::vector<fcl::Transform3<S>>> poses;
+    for (int k = 0; k <= pieces; ++k)
+      poses.push_back(self.kinematics().linkPoses(fcl::VectorX<S>(from + S(t0 + (t1 - t0) * k / pieces) * dq)));
+    std::vector<typename LinkSweeps<S>::Terms> terms;
+    sweeps.terms(poses.front(), dq, terms);
+    for (const auto& [link, depth] : bounds)
+    {
+      const int frame = linkAbove(robot, link, depth);
+      const double bound = sweeps.sweep(terms, link, depth, t1 - t0);
+      std::vector<fcl::Transform3<S>> relative;  // the link in the frame, along the interval
+      for (const auto& p : poses) relative.push_back(p[frame].inverse(Eigen::Isometry) * p[link]);
+      double longest = 0;
+      for (const fcl::Vector3d& vertex : robot.links[link].mesh.vertices)
+      {
+        const auto at = [&](int k) -> fcl::Vector3d { return (relative[k] * vertex.cast<S>()).template cast<double>(); };
+        double length = 0;
+        for (int k = 0; k < pieces; ++k) length += (at(k + 1) - at(k)).norm();
+        longest = std::max(longest, length);
+      }
+      // Each chord rounds by a few ulps of the reach.
+      const double rounding = std::is_same_v<S, float> ? 2e-7 * pieces : 1e-12 * pieces;
+      EXPECT_LE(longest, bound + rounding) << robot.links[link].name << " below " << robot.links[frame].name
+                                           << ", segment " << segment;
+      if (longest > 1e-3) tightest = std::min(tightest, bound / longest);
+    }
+  }
+  std::cout << "[sweeps] the tightest bound is " << tightest << " times a vertex's path\n";
 }
 
 TYPED_TEST(EnvironmentTest, MotionChecksCatchAGrazingObstacleBetweenSamples)

@@ -76,7 +76,7 @@ struct MotionResult
   S parameter = 0;
   S free_until = 0;
   int configurations_checked = 0;  ///< configurations visited (kinematics runs)
-  int distance_queries = 0;        ///< exact link-pair distances computed
+  int distance_queries = 0;        ///< distance bounds asked for beyond the cheap gaps (hulls, measurements)
 };
 
 /// A robot (its SelfCollision checker, built here: link trees once) and named obstacles placed in the robot's
@@ -92,10 +92,13 @@ struct MotionResult
 /// for every configuration of a straight joint-space segment, without sampling at a resolution: Schwarzer,
 /// Saha and Latombe's adaptive dynamic collision checking (IEEE T-RO 2005). Each pair of bodies is certified
 /// free on an interval when the distance lower bounds at its ends exceed the most any point of the two
-/// bodies can move relative to each other along it (per joint: |dq| times the largest distance of any point
-/// of the link from the joint's axis, bounded over every configuration; prismatic joints: |dq|); only the pairs
-/// and intervals that cannot be certified are bisected. Lower bounds are the bounding spheres' gap first, the
-/// exact distance when that is not enough.
+/// bodies can move relative to each other along it (fcl_rs/robot/link_sweeps.h: per joint, |dq| times the
+/// link ball's distance from the joint's axis at the interval's start plus its growth along the interval; 1 per
+/// unit for prismatic joints); only the pairs and intervals that cannot be certified are bisected. Lower bounds
+/// are the bounding spheres' (or an obstacle's box's) gap first, then GJK on the hulls of the link elements and
+/// of the obstacle (SelfCollision::pairDistanceBound, hullDistanceBound), stopped once they reach what the
+/// interval needs; bodies are measured only when their hulls are within rounding of contact and the collision
+/// test finds them apart.
 ///
 /// Queries and motion checks read the environment only (their state is per call): many threads may share one
 /// (see fcl_rs/robot/batch_environment.h). Adding, moving, removing and refreshing obstacles (and changing an

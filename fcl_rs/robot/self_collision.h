@@ -10,6 +10,8 @@
 
 #include "fcl_rs/collide_with_stats.h"
 #include "fcl_rs/collide.h"
+#include "fcl_rs/mesh/triangle_mesh.h"
+#include "fcl_rs/narrowphase/triangle_shape.h"
 #include "fcl_rs/robot/kinematics.h"
 #include "fcl_rs/robot/robot_model.h"
 #include "fcl_rs/robot/srdf.h"
@@ -63,6 +65,23 @@ struct LinkSphere
   fcl::Vector3<S> center = fcl::Vector3<S>::Zero();
   S radius = 0;
 };
+
+/// Points whose convex hull, grown by `radius`, holds a body, in the body's frame: what SelfCollision bounds the
+/// distance between link elements with (GJK on their hulls), and other bodies against links (hullDistanceBound).
+template <typename S>
+struct BodyHull
+{
+  triangle_shape::HullPoints points;
+  double radius = 0;
+  double reach = 0;                                  ///< the largest |point| + radius: the rounding margin's scale
+  fcl::Vector3<S> center = fcl::Vector3<S>::Zero();  ///< near the body's middle: where GJK starts
+};
+
+/// A triangle mesh's hull: its distinct vertices, walked along its edges (HullPoints), about the centre of their
+/// box. `convex`, when given: whether every triangle's plane has all the vertices on one side (to 1e-2 of their
+/// reach), so that the mesh's distance to a convex body is its hull's.
+template <typename S>
+BodyHull<S> meshHull(const TriangleMesh<S>& mesh, bool* convex = nullptr);
 
 /// Self-collision checker for one robot and one BV type.
 ///
@@ -129,6 +148,21 @@ public:
   /// themselves (fcl_rs/robot/environment.h): kinematics run once per configuration. Thread-safe as query.
   SelfCheckResult<S> queryPoses(const std::vector<fcl::Transform3<S>>& poses, const SelfCheckRequest& request) const;
 
+  /// A lower bound on the distance between the links of pairs()[pair] at the poses (as queryPoses takes them), as
+  /// cheap as `enough` allows (for motion checks, fcl_rs/robot/environment.h): the minimum-distance search on that
+  /// pair alone, started at `enough`, so each bound stops it once it reaches `enough`. Below `enough` the answer is
+  /// the distance as minimum_distance measures it; without `measure`, the distance of the elements' hulls (for
+  /// convex elements, Panda-like meshes and the URDF shapes, the distance less a rounding margin; for others
+  /// less). 0 or less for touching links. Thread-safe as query; throws
+  /// std::invalid_argument for KDOP18 and OBB (as query with minimum_distance) and for a pair or poses out of range.
+  S pairDistanceBound(const std::vector<fcl::Transform3<S>>& poses, int pair, S enough, bool measure) const;
+
+  /// A lower bound on the distance between the link at `pose` and a body whose hull is `body` at `body_pose`: the
+  /// smallest of GJK's bounds between each element's hull and the body's (as pairDistanceBound bounds elements),
+  /// each stopped once it reaches `enough`.
+  S hullDistanceBound(int link, const fcl::Transform3<S>& pose, const BodyHull<S>& body,
+                      const fcl::Transform3<S>& body_pose, S enough) const;
+
   /// The link's collision elements, for queries against other geometry (empty for a link without geometry).
   /// Throws std::invalid_argument for KDOP18, whose trees live in the world frame.
   std::vector<LinkElement<S>> linkElements(int link) const;
@@ -140,7 +174,9 @@ private:
   std::unique_ptr<Impl> impl_;
 };
 
-#define FCL_RS_DECLARE_SELF_COLLISION(S) extern template class SelfCollision<S>;
+#define FCL_RS_DECLARE_SELF_COLLISION(S)  \
+  extern template class SelfCollision<S>; \
+  extern template BodyHull<S> meshHull(const TriangleMesh<S>&, bool*);
 FCL_RS_DECLARE_SELF_COLLISION(float)
 FCL_RS_DECLARE_SELF_COLLISION(double)
 #undef FCL_RS_DECLARE_SELF_COLLISION

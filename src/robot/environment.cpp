@@ -29,6 +29,7 @@
 #include "fcl_rs/distance.h"
 #include "fcl_rs/fcl_float.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
+#include "fcl_rs/robot/link_sweeps.h"
 #include "fcl_rs/traversal/collision_traversal.h"
 #include "fcl_rs/traversal/shape_switch.h"
 #include "fcl_rs/validate.h"
@@ -206,6 +207,55 @@ struct Heights
   fcl::Vector3<S> lo_point = fcl::Vector3<S>::Zero(), hi_point = fcl::Vector3<S>::Zero();
 };
 
+/// An obstacle shape's hull in its own frame (SelfCollision::hullDistanceBound), for a box, sphere, capsule or
+/// cylinder (a 16-gon prism about it, within 2 % of its radius); none for other shapes.
+template <typename S>
+std::optional<BodyHull<S>> shapeHull(const fcl::CollisionGeometry<S>& geometry)
+{
+  return detail::withShape(
+      geometry,
+      [&](const auto& shape) -> std::optional<BodyHull<S>> {
+        using Shape = std::decay_t<decltype(shape)>;
+        std::vector<fcl::Vector3d> points;
+        BodyHull<S> hull;
+        if constexpr (std::is_same_v<Shape, fcl::Box<S>>)
+        {
+          const fcl::Vector3d half = 0.5 * shape.side.template cast<double>();
+          for (int corner = 0; corner < 8; ++corner)
+            points.emplace_back(corner & 1 ? half[0] : -half[0], corner & 2 ? half[1] : -half[1],
+                                corner & 4 ? half[2] : -half[2]);
+        }
+        else if constexpr (std::is_same_v<Shape, fcl::Sphere<S>>)
+        {
+          points.emplace_back(fcl::Vector3d::Zero());
+          hull.radius = double(shape.radius);
+        }
+        else if constexpr (std::is_same_v<Shape, fcl::Capsule<S>>)
+        {
+          points.emplace_back(0, 0, 0.5 * double(shape.lz));
+          points.emplace_back(0, 0, -0.5 * double(shape.lz));
+          hull.radius = double(shape.radius);
+        }
+        else if constexpr (std::is_same_v<Shape, fcl::Cylinder<S>>)
+        {
+          // The polygon's sides touch the circle, so the prism holds the cylinder.
+          const int sides = 16;
+          const double corner = double(shape.radius) / std::cos(M_PI / sides) * (1 + 1e-12);
+          for (int k = 0; k < sides; ++k)
+            for (double z : {-0.5 * double(shape.lz), 0.5 * double(shape.lz)})
+              points.emplace_back(corner * std::cos(2 * M_PI * k / sides), corner * std::sin(2 * M_PI * k / sides), z);
+        }
+        else
+          return std::nullopt;
+        double reach = 0;
+        for (const fcl::Vector3d& p : points) reach = std::max(reach, p.norm() + hull.radius);
+        hull.points = triangle_shape::HullPoints(std::move(points));
+        hull.reach = reach;
+        return hull;
+      },
+      []() -> std::optional<BodyHull<S>> { return std::nullopt; });
+}
+
 template <typename BV>
 std::shared_ptr<fcl::CollisionGeometry<typename BV::S>> buildTree(const TriangleMesh<typename BV::S>& mesh)
 {
@@ -291,31 +341,39 @@ struct Environment<S>::Impl
     /// setPose keeps it), for the direct paths of linkHitsObstacle; unset otherwise.
     const fcl::BVHModel<RS<S>>* rs_mesh = nullptr;
     std::optional<RS<S>> shape_bv;
+    /// A box's, sphere's, capsule's, cylinder's or mesh's hull, which motion checks bound link distances with
+    /// (SelfCollision::hullDistanceBound).
+    std::optional<BodyHull<S>> hull;
     /// Per link that no joint moves (Impl::fixed_pose): whether it touches the obstacle, decided when the obstacle
     /// is added, moved or refreshed, since no configuration changes the answer.
     std::vector<std::uint8_t> fixed_link_hits;
   };
 
-  /// A pair a motion check certifies: a self pair (other_link >= 0) or a link and an obstacle.
+  /// A pair a motion check certifies: a self pair (pairs()[self_pair], other_link >= 0) or a link and an obstacle,
+  /// with the moving joints that change their distance: the first `depth` joints up each link's chain
+  /// (LinkSweeps: for a self pair those below the links' common ancestor).
   struct MotionPair
   {
-    int link, other_link, obstacle;
+    int link, other_link, obstacle, self_pair;
+    int depth, other_depth;
   };
 
-  /// One configuration along a motion: poses, link spheres and, per pair, a distance lower bound (NaN until
-  /// computed), whether that bound is the exact distance, and whether some pair collides there.
+  /// One configuration along a motion: poses, link spheres, the sweep terms of the intervals it starts (taken
+  /// when the first one is checked), per pair a distance lower bound and the distance that was enough when it
+  /// was last asked for (infinite once the bound is final), and whether some pair collides there.
   struct Sample
   {
     S t;
     std::vector<Tf<S>> poses;
     std::vector<WorldSphere<S>> spheres;
+    std::vector<typename LinkSweeps<S>::Terms> terms;
     std::vector<S> bound;
-    std::vector<std::uint8_t> exact;
+    std::vector<S> asked;
     bool colliding = false;
   };
 
   Impl(const RobotModel& robot, BVType bv_type, const std::vector<DisabledCollision>& disabled)
-    : bv(bv_type), self(robot, bv_type, disabled)
+    : bv(bv_type), self(robot, bv_type, disabled), sweeps(makeSweeps(robot, self))
   {
     if (bv == BVType::kKDOP18)
       throw std::invalid_argument("fcl_rs::Environment: KDOP18 trees are refitted in place per check, so they cannot "
@@ -332,78 +390,30 @@ struct Environment<S>::Impl
       if (!links[i].elements.empty()) geometric_links.push_back(i);
       for (const fcl::Vector3d& v : robot.links[i].mesh.vertices) link_vertices[i].push_back(v.template cast<S>());
     }
-    computeLevers(robot);
     // Links no joint variable moves (a base on a table is tested once per obstacle, not at every query).
     const std::vector<Tf<S>> poses = self.kinematics().linkPoses(self.kinematics().lower());
     for (int link : geometric_links)
     {
       bool fixed = true;
       for (int j = robot.links[link].parent_joint; j >= 0; j = robot.links[robot.joints[j].parent_link].parent_joint)
-        fixed = fixed && joint_variable[j] < 0;
+        fixed = fixed && sweeps.jointVariable(j) < 0;
       if (fixed) fixed_pose.emplace_back(link, poses[link]);
     }
     fixed_link.assign(n, 0);
     for (const auto& [link, pose] : fixed_pose) fixed_link[link] = 1;
   }
 
-  /// levers[link][joint]: how far any point of the link can move per unit of the joint's value, for every joint
-  /// upstream of the link (0 elsewhere): for a revolute joint, a bound on the distance of the link's geometry
-  /// from the joint's axis over every configuration (the joint origins' offsets down the chain, prismatic
-  /// travel included, plus the link's ball about its origin); 1 for a prismatic joint. Times |multiplier|
-  /// for a mimic joint. Computed in double and rounded up by a relative 1e-6.
-  void computeLevers(const RobotModel& robot)
+  static LinkSweeps<S> makeSweeps(const RobotModel& robot, const SelfCollision<S>& self)
   {
-    const int n = int(robot.links.size()), nj = int(robot.joints.size());
-    const Kinematics<S>& kin = self.kinematics();
-    levers.assign(n, std::vector<double>(nj, 0.0));
-    joint_variable.assign(nj, -1);
-    for (int j = 0; j < nj; ++j)
+    std::vector<fcl::Vector3<S>> centers;
+    std::vector<S> radii;
+    for (int i = 0; i < int(robot.links.size()); ++i)
     {
-      const RobotJoint& joint = robot.joints[j];
-      joint_variable[j] = joint.variable >= 0 ? joint.variable : joint.mimic_variable;
+      const LinkSphere<S> ball = self.linkSphere(i);
+      centers.push_back(ball.center);
+      radii.push_back(ball.radius);
     }
-    // Largest |value| a prismatic joint takes, over its variable's limits.
-    const auto travel = [&](int j) {
-      const RobotJoint& joint = robot.joints[j];
-      if (joint.type != JointType::kPrismatic || joint_variable[j] < 0) return 0.0;
-      const double lo = double(kin.lower()[joint_variable[j]]), hi = double(kin.upper()[joint_variable[j]]);
-      return std::max(std::abs(joint.multiplier * lo + joint.offset), std::abs(joint.multiplier * hi + joint.offset));
-    };
-    for (int link : geometric_links)
-    {
-      double arm = links[link].center.template cast<double>().norm() + double(links[link].radius);
-      for (int j = robot.links[link].parent_joint; j >= 0; j = robot.links[robot.joints[j].parent_link].parent_joint)
-      {
-        const RobotJoint& joint = robot.joints[j];
-        if (joint_variable[j] >= 0)
-        {
-          const double per_unit = joint.type == JointType::kPrismatic ? 1.0 : arm;
-          levers[link][j] = std::abs(joint.multiplier) * per_unit * (1 + 1e-6);
-        }
-        // The joint's own origin offset and travel lie between the parent's origin and the link.
-        arm += joint.origin.translation().norm() + travel(j);
-      }
-      max_arm = std::max(max_arm, arm);
-    }
-    // The self pairs: joints upstream of both links move them together and cannot change their distance.
-    for (const LinkPair& p : self.pairs())
-    {
-      std::vector<double> w(kin.numVariables(), 0.0);
-      for (int j = 0; j < nj; ++j)
-      {
-        const double a = levers[p.first][j], b = levers[p.second][j];
-        if (joint_variable[j] < 0 || (a > 0 && b > 0)) continue;
-        w[joint_variable[j]] += a + b;
-      }
-      self_weights.push_back(std::move(w));
-    }
-    for (int link = 0; link < n; ++link)
-    {
-      std::vector<double> w(kin.numVariables(), 0.0);
-      for (int j = 0; j < nj; ++j)
-        if (joint_variable[j] >= 0) w[joint_variable[j]] += levers[link][j];
-      link_weights.push_back(std::move(w));
-    }
+    return LinkSweeps<S>(robot, self.kinematics(), centers, radii);
   }
 
   int find(const std::string& name) const
@@ -421,11 +431,15 @@ struct Environment<S>::Impl
     return i;
   }
 
-  void add(const std::string& name, std::shared_ptr<fcl::CollisionGeometry<S>> geometry, const Tf<S>& pose)
+  /// Adds an obstacle; a mesh's hull comes with it (meshHull), a shape's is made here (shapeHull).
+  void add(const std::string& name, std::shared_ptr<fcl::CollisionGeometry<S>> geometry, const Tf<S>& pose,
+           std::optional<BodyHull<S>> hull = std::nullopt)
   {
     Obstacle o;
     o.name = name;
     o.geometry = std::move(geometry);
+    o.hull = std::move(hull);
+    if (!o.hull) o.hull = shapeHull(*o.geometry);
     o.pose = pose;
     o.from_world = pose.inverse(Eigen::Isometry);
     o.flat = flatAt(*o.geometry, pose);
@@ -774,22 +788,31 @@ struct Environment<S>::Impl
   std::vector<MotionPair> motionPairs() const
   {
     std::vector<MotionPair> pairs;
-    for (const LinkPair& p : self.pairs()) pairs.push_back({p.first, p.second, -1});
+    for (std::size_t i = 0; i < self.pairs().size(); ++i)
+    {
+      const LinkPair& p = self.pairs()[i];
+      pairs.push_back({p.first, p.second, -1, int(i), sweeps.depthBelow(p.first, p.second),
+                       sweeps.depthBelow(p.second, p.first)});
+    }
     for (int link : geometric_links)
       for (std::size_t o = 0; o < obstacles.size(); ++o)
-        if (!obstacles[o].body.elements.empty()) pairs.push_back({link, -1, int(o)});
+        if (!obstacles[o].body.elements.empty()) pairs.push_back({link, -1, int(o), -1, sweeps.depth(link), 0});
     return pairs;
   }
 
-  Sample sampleAt(const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, S t, std::size_t num_pairs) const
+  /// The configuration at t, the bound of each pair in `active` its cheap gap (see gap); no other pair's bound is
+  /// read there.
+  Sample sampleAt(const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, S t, const std::vector<MotionPair>& pairs,
+                  const std::vector<int>& active) const
   {
     Sample s;
     s.t = t;
     const fcl::VectorX<S> q = from + t * (to - from);
     self.kinematics().linkPoses(q, s.poses);
     placeLinks(s.poses, s.spheres);
-    s.bound.assign(num_pairs, std::numeric_limits<S>::quiet_NaN());
-    s.exact.assign(num_pairs, 0);
+    s.bound.resize(pairs.size());
+    for (int i : active) s.bound[i] = gap(s, pairs[i]);
+    s.asked.assign(pairs.size(), 0);
     return s;
   }
 
@@ -802,33 +825,60 @@ struct Environment<S>::Impl
     return std::max(S(0), obstacleGap(ball, obstacles[p.obstacle]));
   }
 
-  /// The pair's lower bound at s: the balls' gap until the exact distance is asked for.
-  S bound(Sample& s, const std::vector<MotionPair>& pairs, int i) const
+  /// The most the pair's bodies move relative to each other over the interval of length dt starting at s, padded
+  /// by `pad` for rounding.
+  S moved(Sample& s, const fcl::VectorX<S>& step, const MotionPair& p, S dt, S pad) const
   {
-    if (std::isnan(s.bound[i])) s.bound[i] = gap(s, pairs[i]);
-    return s.bound[i];
+    if (s.terms.empty()) sweeps.terms(s.poses, step, s.terms);
+    double m = sweeps.sweep(s.terms, p.link, p.depth, double(dt));
+    if (p.other_link >= 0) m += sweeps.sweep(s.terms, p.other_link, p.other_depth, double(dt));
+    return S(m * (1 + 1e-6)) + pad;
   }
 
-  /// Replaces the pair's bound at s by its exact distance (0 and s.colliding when the pair collides there:
-  /// decided by the collision test, as query decides it).
-  void exact(Sample& s, const MotionPair& p, int i, MotionResult<S>& result) const
+  /// A lower bound on the pair's distance at s, as cheap as reaching `enough` allows: SelfCollision's search for
+  /// self pairs; for obstacles the hulls' bound, then (obstacles without a hull) the distance with
+  /// kMotionDistanceError started at enough. Without `measure`, bodies with hulls are not measured: the hulls'
+  /// distance is a lower bound whatever their shapes, and nearly the distance for convex ones.
+  S lowerBound(const Sample& s, const MotionPair& p, S enough, bool measure) const
   {
-    s.exact[i] = 1;
-    const bool self_pair = p.other_link >= 0;
-    const Tf<S>& pose = s.poses[p.link];
-    if (self_pair ? bodiesCollide(links[p.link], pose, links[p.other_link], s.poses[p.other_link])
-                  : linkHitsObstacle(p.link, pose, obstacles[p.obstacle]))
+    if (p.other_link >= 0) return self.pairDistanceBound(s.poses, p.self_pair, enough, measure);
+    const Obstacle& o = obstacles[p.obstacle];
+    if (o.hull)
     {
-      s.bound[i] = 0;
-      s.colliding = true;
-      return;
+      const S d = self.hullDistanceBound(p.link, s.poses[p.link], *o.hull, o.pose, enough);
+      if (!(d < enough) || !measure) return d;
     }
+    const S err = S(kMotionDistanceError);
+    return linkDistance(p.link, s.poses[p.link], obstacles[p.obstacle], enough * S(1 + err), nullptr, err) /
+           S(1 + err);
+  }
+
+  /// Raises the pair's bound at s towards `enough`. A bound within rounding of contact is decided by the collision
+  /// test, as query decides it (s.colliding); when that finds the pair apart, the bound is measured (a link
+  /// inside another's hull does not touch it).
+  void refine(Sample& s, const MotionPair& p, int i, S enough, S contact, MotionResult<S>& result) const
+  {
+    if (!(enough > s.asked[i])) return;
     ++result.distance_queries;
-    const S inf = std::numeric_limits<S>::infinity(), err = S(kMotionDistanceError);
-    const S d = self_pair ? bodiesDistance(links[p.link], pose, links[p.other_link], s.poses[p.other_link], inf,
-                                           static_cast<fcl::Vector3<S>*>(nullptr), err)
-                          : linkDistance(p.link, pose, obstacles[p.obstacle], inf, nullptr, err);
-    s.bound[i] = d / S(1 + err);
+    S d = lowerBound(s, p, enough, /*measure=*/false);
+    if (d <= contact)
+    {
+      const bool self_pair = p.other_link >= 0;
+      const Tf<S>& pose = s.poses[p.link];
+      if (self_pair ? bodiesCollide(links[p.link], pose, links[p.other_link], s.poses[p.other_link])
+                    : linkHitsObstacle(p.link, pose, obstacles[p.obstacle]))
+      {
+        s.bound[i] = 0;
+        s.asked[i] = std::numeric_limits<S>::infinity();
+        s.colliding = true;
+        return;
+      }
+      ++result.distance_queries;
+      d = lowerBound(s, p, enough, /*measure=*/true);
+    }
+    s.bound[i] = std::max(s.bound[i], d);
+    // Below `enough` the answer is final: asking for more finds no more.
+    s.asked[i] = d < enough ? std::numeric_limits<S>::infinity() : enough;
   }
 
   /// One segment, parameters in [0, 1] (see the class comment). Intervals are taken left first, so when a
@@ -837,31 +887,11 @@ struct Environment<S>::Impl
   {
     const std::vector<MotionPair> pairs = motionPairs();
     const fcl::VectorX<S> step = to - from;
-    // Most any point of the pair can move relative to the other over the whole segment.
-    std::vector<S> sweep(pairs.size());
-    std::vector<double> link_sweep(links.size(), 0.0);
-    for (int link : geometric_links)
-      for (int v = 0; v < step.size(); ++v) link_sweep[link] += link_weights[link][v] * std::abs(double(step[v]));
-    for (std::size_t i = 0, self_index = 0; i < pairs.size(); ++i)
-    {
-      double s = 0;
-      if (pairs[i].other_link >= 0)
-      {
-        for (int v = 0; v < step.size(); ++v) s += self_weights[self_index][v] * std::abs(double(step[v]));
-        ++self_index;
-      }
-      else
-        s = link_sweep[pairs[i].link];
-      sweep[i] = S(s * (1 + 1e-6));
-    }
     // Rounding of poses and distances in S, relative to the robot's reach.
-    const S pad = S(32) * std::numeric_limits<S>::epsilon() * S(1 + max_arm);
+    const S pad = S(32) * std::numeric_limits<S>::epsilon() * S(1 + sweeps.reach());
     const S shortest = std::max(S(1e-9), S(16) * std::numeric_limits<S>::epsilon());
 
     MotionResult<S> result;
-    std::vector<Sample> samples;
-    samples.push_back(sampleAt(from, to, S(0), pairs.size()));
-    samples.push_back(sampleAt(from, to, S(1), pairs.size()));
     struct Interval
     {
       int a, b;
@@ -873,6 +903,9 @@ struct Environment<S>::Impl
       for (std::size_t i = 0; i < pairs.size(); ++i) all.active[i] = int(i);
       stack.push_back(std::move(all));
     }
+    std::vector<Sample> samples;
+    samples.push_back(sampleAt(from, to, S(0), pairs, stack.back().active));
+    samples.push_back(sampleAt(from, to, S(1), pairs, stack.back().active));
     const auto collision = [&](S t, S free_until) {
       result.colliding = true;
       result.parameter = t;
@@ -888,17 +921,23 @@ struct Environment<S>::Impl
       Sample& b = samples[interval.b];
       const S dt = b.t - a.t;
       std::vector<int> remaining;
+      // Once a pair stays uncertified the interval is halved anyway: the other pairs' bounds are raised on the
+      // halves, where less is enough (an interval too short to halve raises every bound).
+      const bool thorough = dt < shortest;
       for (int i : interval.active)
       {
-        const S moved = sweep[i] * dt + pad;
-        if (moved < bound(a, pairs, i) + bound(b, pairs, i)) continue;
-        if (!a.exact[i])
+        const S m = moved(a, step, pairs[i], dt, pad);
+        if (m < a.bound[i] + b.bound[i]) continue;
+        if (!remaining.empty() && !thorough)
         {
-          exact(a, pairs[i], i, result);
-          if (a.colliding) return collision(a.t, a.t);
+          remaining.push_back(i);
+          continue;
         }
-        if (!b.exact[i]) exact(b, pairs[i], i, result);
-        if (moved < a.bound[i] + b.bound[i]) continue;
+        refine(a, pairs[i], i, m, pad, result);
+        if (a.colliding) return collision(a.t, a.t);
+        if (m < a.bound[i] + b.bound[i]) continue;
+        refine(b, pairs[i], i, m, pad, result);
+        if (m < a.bound[i] + b.bound[i]) continue;
         remaining.push_back(i);
       }
       if (remaining.empty())
@@ -909,15 +948,22 @@ struct Environment<S>::Impl
       }
       if (b.colliding && (!request.earliest || dt <= request.tolerance)) return collision(b.t, a.t);
       // A pair that stays within rounding of contact without touching: bisection cannot certify it. An interval
-      // this short joins configurations a few ulps apart, which both ends' exact tests have found free.
-      if (dt < shortest)
+      // this short joins configurations a few ulps apart, which the ends' bounds or collision tests found free.
+      if (thorough)
       {
         result.free_until = b.t;
         continue;
       }
       const int b_index = interval.b, a_index = interval.a;
-      samples.push_back(sampleAt(from, to, S(0.5) * (a.t + b.t), pairs.size()));  // a and b are invalid now
+      samples.push_back(sampleAt(from, to, S(0.5) * (a.t + b.t), pairs, remaining));  // a and b are invalid now
       const int mid = int(samples.size()) - 1;
+      // What the ends' bounds leave at the midpoint: a bound less the most the pair moves on the way.
+      Sample& start = samples[a_index];
+      Sample& middle = samples[mid];
+      const S half = middle.t - start.t;
+      for (int i : remaining)
+        middle.bound[i] = std::max({middle.bound[i], start.bound[i] - moved(start, step, pairs[i], half, pad),
+                                    samples[b_index].bound[i] - moved(middle, step, pairs[i], half, pad)});
       stack.push_back({mid, b_index, remaining});
       stack.push_back({a_index, mid, std::move(remaining)});
     }
@@ -959,14 +1005,10 @@ struct Environment<S>::Impl
 
   BVType bv;
   SelfCollision<S> self;
+  LinkSweeps<S> sweeps;
   std::vector<Body<S>> links;
   std::vector<std::vector<fcl::Vector3<S>>> link_vertices;  ///< each link's mesh vertices, link frame (heights)
   std::vector<int> geometric_links;
-  std::vector<std::vector<double>> levers;
-  std::vector<int> joint_variable;
-  std::vector<std::vector<double>> self_weights;  ///< per self pair, per variable: relative sweep per unit
-  std::vector<std::vector<double>> link_weights;  ///< per link, per variable: sweep per unit
-  double max_arm = 0;
   std::vector<Obstacle> obstacles;
   std::vector<std::pair<int, Tf<S>>> fixed_pose;  ///< the geometric links no joint variable moves, at their pose
   std::vector<std::uint8_t> fixed_link;           ///< per link: one of fixed_pose
@@ -1031,7 +1073,7 @@ void Environment<S>::addMesh(const std::string& name, const TriangleMesh<S>& mes
 {
   impl_->checkNewName(name);
   requireRigidTransform(pose, kApi, ("the pose of obstacle '" + name + "'").c_str());
-  impl_->add(name, buildTree<S>(impl_->bv, mesh), pose);
+  impl_->add(name, buildTree<S>(impl_->bv, mesh), pose, meshHull(mesh));
 }
 
 #if FCL_HAVE_OCTOMAP

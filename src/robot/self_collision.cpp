@@ -348,7 +348,49 @@ bool convexPosition(const TriangleMesh<double>& mesh, const std::vector<fcl::Vec
   return true;
 }
 
+/// The largest |point| + radius of a hull (its rounding margin's scale).
+template <typename S>
+double reachOf(const BodyHull<S>& hull)
+{
+  double reach = 0;
+  for (const fcl::Vector3d& point : hull.points.points()) reach = std::max(reach, point.norm() + hull.radius);
+  return reach;
+}
+
 }  // namespace
+
+template <typename S>
+BodyHull<S> meshHull(const TriangleMesh<S>& mesh, bool* convex)
+{
+  // Distinct vertices only (a mesh file may repeat each vertex per triangle): GJK's scans meet each once, and
+  // its walks follow the triangles' edges between them.
+  TriangleMesh<double> exact;
+  for (const auto& v : mesh.vertices) exact.vertices.push_back(v.template cast<double>());
+  exact.triangles = mesh.triangles;
+  std::vector<fcl::Vector3d> points = exact.vertices;
+  const auto before = [](const fcl::Vector3d& x, const fcl::Vector3d& y) {
+    return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
+  };
+  std::sort(points.begin(), points.end(), before);
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  std::vector<std::array<std::size_t, 3>> triangles;
+  for (const fcl::Triangle& t : mesh.triangles)
+  {
+    std::array<std::size_t, 3> ids;
+    for (int k = 0; k < 3; ++k)
+      ids[std::size_t(k)] =
+          std::size_t(std::lower_bound(points.begin(), points.end(), exact.vertices[t[k]], before) - points.begin());
+    triangles.push_back(ids);
+  }
+  if (convex) *convex = convexPosition(exact, points);
+  fcl::Vector3d lo = fcl::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const fcl::Vector3d& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  BodyHull<S> hull;
+  hull.points = triangle_shape::HullPoints(std::move(points), triangles);
+  hull.center = (0.5 * (lo + hi)).cast<S>();
+  hull.reach = reachOf(hull);
+  return hull;
+}
 
 template <typename S>
 struct SelfCollision<S>::Impl
@@ -362,10 +404,8 @@ struct SelfCollision<S>::Impl
     Tf<S> origin = Tf<S>::Identity();                     ///< in the link frame
     fcl::Vector3<S> center = fcl::Vector3<S>::Zero();
     S radius = 0;
-    /// Points of the link frame (in double) whose convex hull, grown by hull_radius, holds the element: the
-    /// mesh's vertices (with its edges), or primitiveHullPoints. hull_reach: the largest |point| + hull_radius.
-    triangle_shape::HullPoints hull_points;
-    double hull_radius = 0, hull_reach = 0;
+    /// In the link frame: the mesh's vertices (with its edges), or primitiveHullPoints; about `center`.
+    BodyHull<S> hull;
     /// Whether every triangle's plane has all the mesh's vertices on one side (to 1e-2 of its reach); shapes are.
     /// Only convex elements are measured along their hulls' gap direction: elsewhere the direction leaves too
     /// many triangles, and finding that out would cost more than it saves.
@@ -450,22 +490,21 @@ struct SelfCollision<S>::Impl
     return distance(R, T, a, b) - 8 * std::numeric_limits<S>::epsilon() * worldOffsets(ta, tb);
   }
 
-  /// A lower bound on the distance between elements ea and eb of links posed by ta and tb: the distance of their
-  /// hulls (Element::hull_points) as GJK certifies it, less both hull radii and a margin of 1024 ulps of S on the
-  /// poses' offsets and the elements' reaches, which covers the rounding of the exact distance measured (in S, in
-  /// the links' relative frame) and of the bound. GJK stops once the bound exceeds `enough`, the best distance so
-  /// far (the pair is skipped then, whatever its bound). direction: world frame, from ea's hull towards eb's.
-  static S hullDistance(const Tf<S>& ta, const Element& ea, const Tf<S>& tb, const Element& eb, S enough,
+  /// A lower bound on the distance between hulls a and b of bodies posed by ta and tb: the distance of their
+  /// points' hulls as GJK certifies it, less both hull radii and a margin of 1024 ulps of S on the poses' offsets
+  /// and the hulls' reaches, which covers the rounding of the exact distance measured (in S, in the links' relative
+  /// frame) and of the bound. GJK stops once the bound exceeds `enough`, the best distance so far (the pair is
+  /// skipped then, whatever its bound). direction: world frame, from a's hull towards b's.
+  static S hullDistance(const Tf<S>& ta, const BodyHull<S>& a, const Tf<S>& tb, const BodyHull<S>& b, S enough,
                         fcl::Vector3d& direction)
   {
     const Eigen::Isometry3d pa = ta.template cast<double>(), pb = tb.template cast<double>();
     const double margin = 1024 * double(std::numeric_limits<S>::epsilon()) *
-                          (pa.translation().lpNorm<1>() + pb.translation().lpNorm<1>() + ea.hull_reach + eb.hull_reach);
-    const double shrink = ea.hull_radius + eb.hull_radius + margin;
-    const fcl::Vector3d start = pa * ea.center.template cast<double>() - pb * eb.center.template cast<double>();
+                          (pa.translation().lpNorm<1>() + pb.translation().lpNorm<1>() + a.reach + b.reach);
+    const double shrink = a.radius + b.radius + margin;
+    const fcl::Vector3d start = pa * a.center.template cast<double>() - pb * b.center.template cast<double>();
     const double bound =
-        triangle_shape::hullsLowerBound(ea.hull_points, pa, eb.hull_points, pb, start, double(enough) + shrink,
-                                        &direction) -
+        triangle_shape::hullsLowerBound(a.points, pa, b.points, pb, start, double(enough) + shrink, &direction) -
         shrink;
     // Rounded down to S.
     const S rounded = S(bound);
@@ -558,18 +597,38 @@ struct SelfCollision<S>::Impl
   /// result does too.
   S minimumDistance(const Placement& placement) const
   {
-    const auto farther = [](const Candidate& x, const Candidate& y) { return x.bound > y.bound; };
-    std::vector<Candidate> waiting;  // a min-heap on bound
+    std::vector<Candidate> waiting;
     waiting.reserve(2 * pairs.size());
-    S best = std::numeric_limits<S>::infinity();
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      waiting.push_back({sphereGap(placement.spheres[pairs[i].first], placement.spheres[pairs[i].second]), int(i),
+                         0, 0, Stage::kLinkSpheres});
+    return nearest(placement.poses, std::move(waiting), std::numeric_limits<S>::infinity(), /*measure=*/true);
+  }
+
+  /// A lower bound on the distance of pairs[pair] at the poses, by the same search started at `enough`.
+  S pairDistanceBound(const Tf<S>* poses, int pair, S enough, bool measure) const
+  {
+    const int a = pairs[pair].first, b = pairs[pair].second;
+    const S gap = sphereGap(placeSphere(poses[a], links[a].center, links[a].radius),
+                            placeSphere(poses[b], links[b].center, links[b].radius));
+    return nearest(poses, {{gap, pair, 0, 0, Stage::kLinkSpheres}}, enough, measure);
+  }
+
+  /// The search of minimumDistance over the candidates `seeds` (any order), with `best` the distance that is
+  /// enough: the answer is the smallest distance below it, else `best`. Without `measure` no element pair is
+  /// measured: its hulls' distance is its bound (for convex elements the distance less the margin of hullDistance).
+  S nearest(const Tf<S>* poses, std::vector<Candidate> seeds, S best, bool measure) const
+  {
+    const auto farther = [](const Candidate& x, const Candidate& y) { return x.bound > y.bound; };
+    std::vector<Candidate> waiting = std::move(seeds);  // a min-heap on bound
+    waiting.erase(std::remove_if(waiting.begin(), waiting.end(), [&](const Candidate& c) { return !(c.bound < best); }),
+                  waiting.end());
+    std::make_heap(waiting.begin(), waiting.end(), farther);
     const auto wait = [&](const Candidate& c) {
       if (!(c.bound < best)) return;
       waiting.push_back(c);
       std::push_heap(waiting.begin(), waiting.end(), farther);
     };
-    for (std::size_t i = 0; i < pairs.size(); ++i)
-      wait({sphereGap(placement.spheres[pairs[i].first], placement.spheres[pairs[i].second]), int(i), 0, 0,
-            Stage::kLinkSpheres});
     const fcl::DistanceRequest<S> request;
     while (!waiting.empty())
     {
@@ -582,8 +641,8 @@ struct SelfCollision<S>::Impl
       while (!done && c.bound < best && (waiting.empty() || !(waiting.front().bound < c.bound)))
       {
         const int a = pairs[c.pair].first, b = pairs[c.pair].second;
-        const Tf<S>& ta = placement.poses[a];
-        const Tf<S>& tb = placement.poses[b];
+        const Tf<S>& ta = poses[a];
+        const Tf<S>& tb = poses[b];
         const Link& la = links[a];
         const Link& lb = links[b];
         if (c.stage == Stage::kLinkSpheres)
@@ -609,13 +668,19 @@ struct SelfCollision<S>::Impl
         else if (c.stage == Stage::kElementSpheres)
         {
           c.stage = Stage::kElementHulls;
-          c.bound = std::max(c.bound, hullDistance(ta, la.elements[c.element_a], tb, lb.elements[c.element_b], best,
-                                                   c.direction));
+          c.bound = std::max(c.bound, hullDistance(ta, la.elements[c.element_a].hull, tb,
+                                                   lb.elements[c.element_b].hull, best, c.direction));
         }
         else
         {
           const Element& ea = la.elements[c.element_a];
           const Element& eb = lb.elements[c.element_b];
+          done = true;
+          if (!measure)
+          {
+            best = std::min(best, c.bound);
+            continue;
+          }
           const Tf<S> pose_a = ta * ea.origin, pose_b = tb * eb.origin;
           fcl::DistanceResult<S> result;
           result.min_distance = best;
@@ -623,7 +688,6 @@ struct SelfCollision<S>::Impl
               !detail::distanceAlong(ea.geometry, pose_a, eb.geometry, pose_b, c.direction, request, result))
             fcl_rs::distance(ea.geometry, pose_a, eb.geometry, pose_b, request, result);
           best = std::min(best, result.min_distance);
-          done = true;
         }
       }
       if (!done) wait(c);
@@ -692,27 +756,8 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       typename Impl::Element mesh;
       mesh.center = mesh_centre.cast<S>();
       mesh.radius = S(mesh_radius * (1 + 1e-6));
-      // Distinct vertices only (a mesh file may repeat each vertex per triangle): GJK's scans meet each once, and
-      // its walks follow the triangles' edges between them.
-      std::vector<fcl::Vector3d> points;
-      for (const auto& v : meshes[i].vertices) points.push_back(v.template cast<double>());
-      const auto before = [](const fcl::Vector3d& x, const fcl::Vector3d& y) {
-        return std::lexicographical_compare(x.data(), x.data() + 3, y.data(), y.data() + 3);
-      };
-      std::sort(points.begin(), points.end(), before);
-      points.erase(std::unique(points.begin(), points.end()), points.end());
-      std::vector<std::array<std::size_t, 3>> triangles;
-      for (const fcl::Triangle& t : meshes[i].triangles)
-      {
-        std::array<std::size_t, 3> ids;
-        for (int k = 0; k < 3; ++k)
-          ids[std::size_t(k)] = std::size_t(
-            std::lower_bound(points.begin(), points.end(), meshes[i].vertices[t[k]].template cast<double>(), before) -
-            points.begin());
-        triangles.push_back(ids);
-      }
-      mesh.convex = convexPosition(src.mesh, points);
-      mesh.hull_points = triangle_shape::HullPoints(std::move(points), triangles);
+      mesh.hull = meshHull(meshes[i], &mesh.convex);
+      mesh.hull.center = mesh.center;
       link.elements.push_back(mesh);  // its geometry, the tree, is set below
     }
     for (std::size_t k = 0; k < link.shapes.size(); ++k)
@@ -726,17 +771,15 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
       shape.center = link.shapes[k].origin.translation();
       shape.radius = S(primitiveRadius(src.primitives[k]) * (1 + 1e-6));
       std::vector<fcl::Vector3d> corners;
-      for (const fcl::Vector3d& corner : primitiveHullPoints(src.primitives[k], shape.hull_radius))
+      for (const fcl::Vector3d& corner : primitiveHullPoints(src.primitives[k], shape.hull.radius))
         corners.push_back(src.primitives[k].origin * corner);
-      shape.hull_points = triangle_shape::HullPoints(std::move(corners));
+      shape.hull.points = triangle_shape::HullPoints(std::move(corners));
+      shape.hull.center = shape.center;
+      shape.hull.reach = reachOf(shape.hull);
       link.elements.push_back(shape);
     }
     link.bound_frame = detail::BoxedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), link.bound);
   }
-  for (typename Impl::Link& link : impl_->links)
-    for (typename Impl::Element& element : link.elements)
-      for (const fcl::Vector3d& point : element.hull_points.points())
-        element.hull_reach = std::max(element.hull_reach, point.norm() + element.hull_radius);
   impl_->trees = makeTrees<S>(bv, meshes);
   for (int i = 0; i < n; ++i)
     if (impl_->links[i].has_mesh) impl_->links[i].elements.front().geometry = impl_->trees->localModel(i);
@@ -869,6 +912,38 @@ SelfCheckResult<S> SelfCollision<S>::queryPoses(const std::vector<fcl::Transform
 }
 
 template <typename S>
+S SelfCollision<S>::pairDistanceBound(const std::vector<fcl::Transform3<S>>& poses, int pair, S enough,
+                                      bool measure) const
+{
+  if (impl_->bv == BVType::kKDOP18 || impl_->bv == BVType::kOBB)
+    throw std::invalid_argument(std::string("fcl_rs::SelfCollision::pairDistanceBound: no distances for ") +
+                                bvTypeName(impl_->bv) + " trees; use RS, OBBRSS or RSS");
+  if (pair < 0 || pair >= int(impl_->pairs.size()))
+    throw std::invalid_argument("fcl_rs::SelfCollision::pairDistanceBound: pair " + std::to_string(pair) +
+                                " out of range [0, " + std::to_string(impl_->pairs.size()) + ")");
+  if (poses.size() != impl_->links.size())
+    throw std::invalid_argument("fcl_rs::SelfCollision::pairDistanceBound: " + std::to_string(poses.size()) +
+                                " poses for " + std::to_string(impl_->links.size()) + " links");
+  return impl_->pairDistanceBound(poses.data(), pair, enough, measure);
+}
+
+template <typename S>
+S SelfCollision<S>::hullDistanceBound(int link, const fcl::Transform3<S>& pose, const BodyHull<S>& body,
+                                      const fcl::Transform3<S>& body_pose, S enough) const
+{
+  if (link < 0 || link >= int(impl_->links.size()))
+    throw std::invalid_argument("fcl_rs::SelfCollision::hullDistanceBound: link " + std::to_string(link) +
+                                " out of range [0, " + std::to_string(impl_->links.size()) + ")");
+  S best = enough;
+  fcl::Vector3d direction;
+  for (const typename Impl::Element& e : impl_->links[link].elements)
+  {
+    best = std::min(best, Impl::hullDistance(pose, e.hull, body_pose, body, best, direction));
+  }
+  return best;
+}
+
+template <typename S>
 std::vector<LinkElement<S>> SelfCollision<S>::linkElements(int link) const
 {
   if (link < 0 || link >= int(impl_->links.size()))
@@ -897,7 +972,9 @@ LinkSphere<S> SelfCollision<S>::linkSphere(int link) const
   return {impl_->links[link].center, impl_->links[link].radius};
 }
 
-#define FCL_RS_INSTANTIATE_SELF_COLLISION(S) template class SelfCollision<S>;
+#define FCL_RS_INSTANTIATE_SELF_COLLISION(S) \
+  template class SelfCollision<S>;           \
+  template BodyHull<S> meshHull(const TriangleMesh<S>&, bool*);
 FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_SELF_COLLISION)
 #undef FCL_RS_INSTANTIATE_SELF_COLLISION
 
