@@ -24,6 +24,7 @@
 #include "fcl_rs/fcl_rs.h"
 #include "fcl_rs/mesh/surface_octree.h"
 #include "fcl_rs/narrowphase/triangle_shape.h"
+#include "fcl_rs/traversal/octree_traversal.h"
 #include "octree_cells.h"
 #include "test_util.h"
 
@@ -524,6 +525,46 @@ TYPED_TEST(OcTreeTraversalTest, DistanceIsBruteForceAndFCLsAndSignedDistanceTheD
   }
   EXPECT_GT(apart, 2);
   EXPECT_GT(signed_checked, 2);
+}
+
+// The traversal's inline occupancy tests against FCL's at every float next to each threshold, on thresholds a
+// user may set (including 0 and 1, whose log-odds are infinite, and NaN, which no node meets), and on seeded values.
+TYPED_TEST(OcTreeTraversalTest, OccupancyTestsAreFCLsAtAndAroundEveryThreshold)
+{
+  using S = TypeParam;
+  fcl::OcTree<S> octree(std::make_shared<octomap::OcTree>(0.1));
+  const float inf = std::numeric_limits<float>::infinity();
+  auto rng = seededRng("OccupancyTests");
+  std::uniform_real_distribution<float> log_odds(-8, 8);
+  const double thresholds[] = {0.5, 0.7, 0.3, 0.97, 0.12, 1e-6, 0.0, 1.0, 1 - 1e-9, 0.5000001,
+                               std::numeric_limits<double>::quiet_NaN()};
+  int checked = 0;
+  for (double occupied : thresholds)
+    for (double free : thresholds)
+    {
+      octree.setOccupancyThres(S(occupied));
+      octree.setFreeThres(S(free));
+      const detail::OcTreeOccupancy<S> occupancy(octree);
+      std::vector<float> values = {0.0f, -0.0f, inf, -inf, std::numeric_limits<float>::quiet_NaN(),
+                                   std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
+      for (double p : {occupied, free})
+      {
+        float l = float(octomap::logodds(p));
+        for (int step = 0; step < 6; ++step) l = std::nextafter(l, -inf);
+        for (int step = 0; step < 12; ++step, l = std::nextafter(l, inf)) values.push_back(l);
+      }
+      for (int i = 0; i < 50; ++i) values.push_back(log_odds(rng));
+      octomap::OcTreeNode node;
+      for (float l : values)
+      {
+        node.setLogOdds(l);
+        ASSERT_EQ(occupancy.occupied(&node), octree.isNodeOccupied(&node)) << occupied << " " << free << " " << l;
+        ASSERT_EQ(occupancy.free(&node), octree.isNodeFree(&node)) << occupied << " " << free << " " << l;
+        ASSERT_EQ(occupancy.uncertain(&node), octree.isNodeUncertain(&node)) << occupied << " " << free << " " << l;
+        ++checked;
+      }
+    }
+  EXPECT_EQ(checked, 11 * 11 * (7 + 2 * 12 + 50));
 }
 
 TYPED_TEST(OcTreeTraversalTest, EmptyOcTreeNeitherCollidesNorHasADistance)

@@ -12,6 +12,9 @@
 #if FCL_HAVE_OCTOMAP
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -88,6 +91,79 @@ struct OcTreeChildren : octomap::OcTreeNode
   {
     return static_cast<const octomap::OcTreeNode*>((node->*(&OcTreeChildren::children))[i]);
   }
+};
+
+/// fcl::OcTree's occupancy tests, inline: isNodeOccupied is a node's log-odds at or above a threshold, isNodeFree
+/// at or below another, but FCL keeps both thresholds private and the tests out of line, and a descent asks them for
+/// most cells it reaches. Each threshold is taken as the float where FCL's own test turns, found by asking that test
+/// about a probe node, so that every node gets FCL's answer.
+template <typename S>
+class OcTreeOccupancy
+{
+public:
+  explicit OcTreeOccupancy(const fcl::OcTree<S>& octree)
+  {
+    octomap::OcTreeNode probe;
+    occupied_from_ = lowestAccepted(
+        [&](float l) {
+          probe.setLogOdds(l);
+          return octree.isNodeOccupied(&probe);
+        },
+        octomap::logodds(double(octree.getOccupancyThres())));
+    // isNodeFree holds from some log-odds down: the lowest -l it accepts.
+    free_up_to_ = -lowestAccepted(
+        [&](float l) {
+          probe.setLogOdds(-l);
+          return octree.isNodeFree(&probe);
+        },
+        -octomap::logodds(double(octree.getFreeThres())));
+  }
+  bool occupied(const octomap::OcTreeNode* node) const { return node->getLogOdds() >= occupied_from_; }
+  bool free(const octomap::OcTreeNode* node) const { return node->getLogOdds() <= free_up_to_; }
+  bool uncertain(const octomap::OcTreeNode* node) const { return !occupied(node) && !free(node); }
+
+private:
+  /// The lowest float that `accepts` (false below some value, true from it up) accepts, NaN when it accepts none
+  /// (so that no comparison with it holds), starting from an estimate: a few float steps from it when it is near (the
+  /// reported probability's round trip is), else a bisection of the floats in order.
+  template <typename Accepts>
+  static float lowestAccepted(const Accepts& accepts, double estimate)
+  {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    if (!accepts(kInf)) return std::numeric_limits<float>::quiet_NaN();
+    float x = float(estimate);
+    if (std::isfinite(x))
+    {
+      const float below = std::nextafter(x, -kInf);
+      for (int step = 0; step < 4 && !accepts(x); ++step) x = std::nextafter(x, kInf);
+      if (accepts(x) && !accepts(std::nextafter(x, -kInf))) return x;
+      if (accepts(below) && !accepts(std::nextafter(below, -kInf))) return below;
+    }
+    // Floats ordered as unsigned keys: negative ones reversed below the positive ones.
+    const auto key = [](float f) {
+      std::uint32_t bits;
+      std::memcpy(&bits, &f, sizeof bits);
+      return (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
+    };
+    const auto value = [](std::uint32_t k) {
+      const std::uint32_t bits = (k & 0x80000000u) ? (k & 0x7fffffffu) : ~k;
+      float f;
+      std::memcpy(&f, &bits, sizeof f);
+      return f;
+    };
+    std::uint32_t lo = key(-kInf), hi = key(kInf);
+    while (lo < hi)
+    {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      if (accepts(value(mid)))
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    return value(lo);
+  }
+
+  float occupied_from_, free_up_to_;
 };
 
 /// The lowest set bit's index of a non-zero mask.
@@ -187,7 +263,7 @@ public:
   OcTreeMeshQuery(const fcl::BVHModel<RS<S>>& mesh, const fcl::Transform3<S>& tf_mesh, const fcl::OcTree<S>& octree,
                   const fcl::Transform3<S>& tf_octree, const Solver& solver, const Request& request, Result& result)
     : solver_(solver), request_(request), result_(result), mesh_(mesh), tf_mesh_(tf_mesh), octree_(octree),
-      tf_octree_(tf_octree), shapes_(shape_storage_.values()), cells_(cell_storage_.values()),
+      tf_octree_(tf_octree), occupancy_(octree), shapes_(shape_storage_.values()), cells_(cell_storage_.values()),
       node_boxes_(std::size_t(mesh.getNumBVs())), boxed_nodes_(std::size_t(mesh.getNumBVs()))
   {
     fcl::relativeTransform(tf_mesh, tf_octree, R_, T_);
@@ -360,6 +436,7 @@ public:
 
   const fcl::BVHModel<RS<S>>& mesh() const { return mesh_; }
   const fcl::OcTree<S>& octree() const { return octree_; }
+  const OcTreeOccupancy<S>& occupancy() const { return occupancy_; }
   const fcl::Transform3<S>& meshPose() const { return tf_mesh_; }
 
 protected:
@@ -483,6 +560,7 @@ private:
   const fcl::Transform3<S>& tf_mesh_;
   const fcl::OcTree<S>& octree_;
   const fcl::Transform3<S>& tf_octree_;
+  OcTreeOccupancy<S> occupancy_;
   fcl::Matrix3<S> R_;  ///< the octree's frame in the mesh's: x_mesh = R x_octree + T
   fcl::Vector3<S> T_;
   S leaf_offsets_;  ///< the leaf tolerance's terms common to every cell
@@ -536,7 +614,7 @@ public:
       if (touches(v, c, false)) addCost(v, c, octree.getOccupancyThres());
       return false;
     }
-    if (octree.isNodeOccupied(c.node) && mesh.isOccupied())
+    if (this->occupancy().occupied(c.node) && mesh.isOccupied())
     {
       fcl::Contact<S> contact;
       if (!touches(v, c, this->request_.enable_contact, &contact)) return false;
@@ -544,7 +622,7 @@ public:
       if (this->request_.enable_cost) addCost(v, c, c.node->getOccupancy());
       return this->request_.isSatisfied(this->result_);
     }
-    if (!octree.isNodeFree(c.node) && !mesh.isFree() && this->request_.enable_cost && touches(v, c, false))
+    if (!this->occupancy().free(c.node) && !mesh.isFree() && this->request_.enable_cost && touches(v, c, false))
       addCost(v, c, c.node->getOccupancy());
     return false;
   }
@@ -559,8 +637,8 @@ private:
   /// uncertain while no cost is asked.
   bool pruned(const OcTreeNode* node) const
   {
-    if (mesh_free_ || this->octree().isNodeFree(node)) return true;
-    return !this->request_.enable_cost && (mesh_uncertain_ || this->octree().isNodeUncertain(node));
+    if (mesh_free_ || this->occupancy().free(node)) return true;
+    return !this->request_.enable_cost && (mesh_uncertain_ || this->occupancy().uncertain(node));
   }
   /// Whether cells the octree does not store are visited (for their cost).
   bool unknownCells() const { return this->request_.enable_cost && !mesh_free_; }
@@ -627,7 +705,7 @@ public:
   S bound(const Pair& p) const
   {
     const OcTreeCell<S>& c = this->cell(p.cell);
-    if (!this->octree().isNodeOccupied(c.node)) return std::numeric_limits<S>::max();
+    if (!this->occupancy().occupied(c.node)) return std::numeric_limits<S>::max();
     return distanceLowerBound(this->movedFrame(c), this->mesh().getBV(p.b1).bv, this->shape(c).bv,
                               this->result_.min_distance);
   }
@@ -639,7 +717,7 @@ public:
   void leafTest(const Visit& v)
   {
     const OcTreeCell<S>& c = this->cell(v.cell);
-    if (!this->octree().isNodeOccupied(c.node)) return;
+    if (!this->occupancy().occupied(c.node)) return;
     fcl::Box<S> box;
     fcl::Transform3<S> box_tf;
     this->worldBox(c, box, box_tf);
