@@ -33,9 +33,10 @@ file(STRINGS "${work}/Makefile" core REGEX "^fcl_rs:")
 if(core STREQUAL "")
   message(FATAL_ERROR "the core alone has no fcl_rs target")
 endif()
-# A shared libfcl_rs links assimp itself: its users' links need not name it (pkg-config --static still does).
+# A shared libfcl_rs links assimp (and octomap, where FCL has it) itself: its users' links need not name them
+# (pkg-config --static still does).
 file(STRINGS "${work}/fcl_rs.pc" requires REGEX "^Requires")
-if(NOT requires STREQUAL "Requires: eigen3 ccd;Requires.private: assimp")
+if(NOT requires MATCHES "^Requires: eigen3 ccd;Requires.private: assimp( octomap)?$")
   message(FATAL_ERROR "the shared core's fcl_rs.pc requires: ${requires}")
 endif()
 string(REPLACE ";" " " options "${options}")
