@@ -23,6 +23,7 @@
 
 #include "../scalars.h"
 #include "../validated_entries.h"
+#include "body_hulls.h"
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/collide.h"
@@ -220,10 +221,7 @@ std::optional<BodyHull<S>> shapeHull(const fcl::CollisionGeometry<S>& geometry)
         BodyHull<S> hull;
         if constexpr (std::is_same_v<Shape, fcl::Box<S>>)
         {
-          const fcl::Vector3d half = 0.5 * shape.side.template cast<double>();
-          for (int corner = 0; corner < 8; ++corner)
-            points.emplace_back(corner & 1 ? half[0] : -half[0], corner & 2 ? half[1] : -half[1],
-                                corner & 4 ? half[2] : -half[2]);
+          points = detail::boxCorners(0.5 * shape.side.template cast<double>());
         }
         else if constexpr (std::is_same_v<Shape, fcl::Sphere<S>>)
         {
@@ -247,10 +245,8 @@ std::optional<BodyHull<S>> shapeHull(const fcl::CollisionGeometry<S>& geometry)
         }
         else
           return std::nullopt;
-        double reach = 0;
-        for (const fcl::Vector3d& p : points) reach = std::max(reach, p.norm() + hull.radius);
         hull.points = triangle_shape::HullPoints(std::move(points));
-        hull.reach = reach;
+        hull.reach = detail::hullReach(hull);
         return hull;
       },
       []() -> std::optional<BodyHull<S>> { return std::nullopt; });

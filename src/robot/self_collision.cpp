@@ -27,6 +27,7 @@
 
 #include "../scalars.h"
 #include "../validated_entries.h"
+#include "body_hulls.h"
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/distance.h"
@@ -317,11 +318,7 @@ std::vector<fcl::Vector3d> primitiveHullPoints(const Primitive& p, double& radiu
     case Primitive::Type::kCylinder: half = fcl::Vector3d(p.size[0], p.size[0], 0.5 * p.size[1]); break;
     case Primitive::Type::kSphere: radius = p.size[0]; return {fcl::Vector3d::Zero()};
   }
-  std::vector<fcl::Vector3d> corners;
-  for (int corner = 0; corner < 8; ++corner)
-    corners.emplace_back(corner & 1 ? half[0] : -half[0], corner & 2 ? half[1] : -half[1],
-                         corner & 4 ? half[2] : -half[2]);
-  return corners;
+  return detail::boxCorners(half);
 }
 
 /// Whether the plane of every triangle of mesh with area has all `points` on one side, to 1e-2 of their reach.
@@ -346,15 +343,6 @@ bool convexPosition(const TriangleMesh<double>& mesh, const std::vector<fcl::Vec
     }
   }
   return true;
-}
-
-/// The largest |point| + radius of a hull (its rounding margin's scale).
-template <typename S>
-double reachOf(const BodyHull<S>& hull)
-{
-  double reach = 0;
-  for (const fcl::Vector3d& point : hull.points.points()) reach = std::max(reach, point.norm() + hull.radius);
-  return reach;
 }
 
 }  // namespace
@@ -388,7 +376,7 @@ BodyHull<S> meshHull(const TriangleMesh<S>& mesh, bool* convex)
   BodyHull<S> hull;
   hull.points = triangle_shape::HullPoints(std::move(points), triangles);
   hull.center = (0.5 * (lo + hi)).cast<S>();
-  hull.reach = reachOf(hull);
+  hull.reach = detail::hullReach(hull);
   return hull;
 }
 
@@ -775,7 +763,7 @@ SelfCollision<S>::SelfCollision(const RobotModel& robot, BVType bv, const std::v
         corners.push_back(src.primitives[k].origin * corner);
       shape.hull.points = triangle_shape::HullPoints(std::move(corners));
       shape.hull.center = shape.center;
-      shape.hull.reach = reachOf(shape.hull);
+      shape.hull.reach = detail::hullReach(shape.hull);
       link.elements.push_back(shape);
     }
     link.bound_frame = detail::BoxedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), link.bound);
