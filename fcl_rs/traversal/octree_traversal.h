@@ -80,8 +80,10 @@ struct OcTreeChildren : octomap::OcTreeNode
   /// Bit i set: child i exists (fcl::OcTree::nodeChildExists); 0 for a leaf (nodeHasChildren is false).
   static unsigned int mask(const octomap::OcTreeNode* node)
   {
-    octomap::AbstractOcTreeNode* const* children = node->*(&OcTreeChildren::children);
-    if (!children) return 0;
+    // A leaf has no array: eight null children instead, chosen without a branch (leaves and inner nodes mix).
+    static octomap::AbstractOcTreeNode* const kNone[8] = {};
+    octomap::AbstractOcTreeNode* const* const array = node->*(&OcTreeChildren::children);
+    octomap::AbstractOcTreeNode* const* const children = array ? array : kNone;
     unsigned int bits = 0;
     for (unsigned int i = 0; i < 8; ++i) bits |= unsigned(children[i] != nullptr) << i;
     return bits;
@@ -225,14 +227,14 @@ struct OcTreeCellShape
 };
 
 /// An octree cell a traversal reached: its node (nullptr: a cell the octree does not store, visited only for the
-/// cost of unknown space, as FCL does), whether it is a leaf (no node, or a node without children), its box in the
+/// cost of unknown space, as FCL does), the node's children (OcTreeChildren::mask; none: a leaf), its box in the
 /// octree's frame, its shape (an index into the query's), and the shape's RS moved to the cell (the parts of the
 /// shape's moved frame that MovedFrame::movedOrigin gives: the origin, the box centre, the offsets).
 template <typename S>
 struct OcTreeCell
 {
   const typename fcl::OcTree<S>::OcTreeNode* node;
-  bool leaf;
+  unsigned int existing;
   CellBox<S> box;
   int shape;
   fcl::Vector3<S> origin, centre;
@@ -283,7 +285,7 @@ public:
     if (!octree_.getRoot()) return false;
     const CellBox<S> box = rootBox();
     const OcTreeNode* node = octree_.getRoot();
-    pair = Pair{0, addCell(node, OcTreeChildren::mask(node) == 0, box, cellShape((box.max - box.min) / 2))};
+    pair = Pair{0, addCell(node, OcTreeChildren::mask(node), box, cellShape((box.max - box.min) / 2))};
     return true;
   }
   /// The root pair of a pruned descent (children() with `pruned`), moved down by skipSingleSplits; false for an
@@ -294,15 +296,15 @@ public:
     const OcTreeNode* node = octree_.getRoot();
     if (!node) return false;
     CellBox<S> box = rootBox();
-    bool leaf;
-    if (!skipSingleSplits(0, nodeBox(0), node, box, unknown_cells, pruned, leaf)) return false;
-    pair = Pair{0, addCell(node, leaf, box, cellShape((box.max - box.min) / 2))};
+    unsigned int existing;
+    if (!skipSingleSplits(0, nodeBox(0), node, box, unknown_cells, pruned, existing)) return false;
+    pair = Pair{0, addCell(node, existing, box, cellShape((box.max - box.min) / 2))};
     return true;
   }
   Visit visit(const Pair& p) const
   {
     const BVNode& n1 = mesh_.getBV(p.b1);
-    return Visit{p.b1, p.cell, n1, isLeaf(n1), cells_[std::size_t(p.cell)].leaf};
+    return Visit{p.b1, p.cell, n1, isLeaf(n1), cells_[std::size_t(p.cell)].existing == 0};
   }
   S size1(const Visit& v) const { return v.n1.bv.size(); }
   S size2(const Visit& v) const { return cells_[std::size_t(v.cell)].box.size(); }
@@ -351,7 +353,7 @@ public:
   /// (visitsNearerFirst: an early first contact); a missing child of a cell is visited as an unknown cell when
   /// `unknown_cells` (cost requested and the mesh not free), else skipped. With `pruned`
   /// (collision: the policy's test of a cell's node, not of its box), a cell's children whose boxes miss the mesh
-  /// node's principal box are left out before they are made cells (boxesApart: most of a split's eight are, and a
+  /// node's principal box are left out before their boxes are made (childrenApart: most of a split's eight are, and a
   /// cell costs more than that test), and each other child is moved down by skipSingleSplits.
   /// The `pruned` of a descent without pruning (distance).
   struct NothingPruned
@@ -374,35 +376,38 @@ public:
     }
     // Copied: adding cells may move cells_.
     const OcTreeNode* node = cells_[std::size_t(v.cell)].node;
+    const unsigned int existing = cells_[std::size_t(v.cell)].existing;
     const CellBox<S> box = cells_[std::size_t(v.cell)].box;
     const fcl::Vector3<S> mid = box.centre();
     const NodeBox* mesh_node = pruned || nearer_first ? &nodeBox(v.b1) : nullptr;
     const S tol = pruned ? childTolerance(*mesh_node, box) : S(0);
     const OcTreeNode* child_nodes[8];
     CellBox<S> child_boxes[8];
-    bool moved[8], leaf[8];
+    unsigned int child_existing[8];
+    bool moved[8];
     fcl::Vector3<S> half = fcl::Vector3<S>::Zero();  // of the children not moved down
     bool any_in_place = false;
     int n = 0;
-    const unsigned int existing = OcTreeChildren::mask(node);
-    for (unsigned int rest = unknown_cells ? 0xffu : existing; rest; rest &= rest - 1)
+    const unsigned int considered = unknown_cells ? 0xffu : existing;
+    for (unsigned int rest = pruned ? considered & ~childrenApart(*mesh_node, box, mid, tol) : considered; rest;
+         rest &= rest - 1)
     {
       const unsigned int i = lowestBit(rest);
       const bool exists = (existing >> i) & 1;
       child_boxes[n] = box.child(i, mid);
-      if (pruned && boxesApart(*mesh_node, child_boxes[n], tol)) continue;
       child_nodes[n] = exists ? OcTreeChildren::child(node, i) : nullptr;
       moved[n] = false;
-      leaf[n] = !exists;
+      child_existing[n] = 0;
       if (pruned && exists)
       {
         const OcTreeNode* reached = child_nodes[n];
-        if (!skipSingleSplits(v.b1, *mesh_node, child_nodes[n], child_boxes[n], unknown_cells, *pruned, leaf[n]))
+        if (!skipSingleSplits(v.b1, *mesh_node, child_nodes[n], child_boxes[n], unknown_cells, *pruned,
+                              child_existing[n]))
           continue;
         moved[n] = child_nodes[n] != reached;
       }
       else if (exists)
-        leaf[n] = OcTreeChildren::mask(child_nodes[n]) == 0;
+        child_existing[n] = OcTreeChildren::mask(child_nodes[n]);
       if (!moved[n])
       {
         half = half.cwiseMax((child_boxes[n].max - child_boxes[n].min) / 2);
@@ -416,7 +421,7 @@ public:
     for (int i = 0; i < n; ++i)
     {
       const int own = moved[i] ? cellShape((child_boxes[i].max - child_boxes[i].min) / 2) : shared_shape;
-      out[i] = Pair{v.b1, addCell(child_nodes[i], leaf[i], child_boxes[i], own)};
+      out[i] = Pair{v.b1, addCell(child_nodes[i], child_existing[i], child_boxes[i], own)};
     }
     if (nearer_first)
     {
@@ -465,52 +470,55 @@ private:
   }
   /// Moves the cell (node, box), an existing node, down the octree as long as the descent would split it against
   /// mesh node b (splitsFirst) and keep one child of it, an existing one (every other child, of those children()
-  /// counts, boxesApart from b), and `pruned` keeps every node it leaves. The pairs skipped are those the descent
+  /// considers, in childrenApart), and `pruned` keeps every node it leaves. The pairs skipped are those the descent
   /// would only have tested with overlaps(), which never prunes a pair that the leaf test reports, and the cell
   /// reached is the one the descent would reach (the same box, by the same child-box steps): the same pairs
   /// report, in the same order. False where `pruned` prunes a node on the way (nothing below it reports); else
-  /// `leaf` says whether the node reached is a leaf (has no children).
+  /// `existing` receives the children of the node reached (OcTreeChildren::mask).
   template <typename Pruned>
   bool skipSingleSplits(int b, const NodeBox& mesh_node, const OcTreeNode*& node, CellBox<S>& box, bool unknown_cells,
-                        const Pruned& pruned, bool& leaf)
+                        const Pruned& pruned, unsigned int& existing)
   {
     const BVNode& n1 = mesh_.getBV(b);
     for (;;)
     {
-      const unsigned int existing = OcTreeChildren::mask(node);
-      leaf = existing == 0;
-      if (leaf || (!isLeaf(n1) && n1.bv.size() > box.size())) return true;
-      int kept = -1, num_kept = 0;
-      CellBox<S> kept_box = box;  // set when a child is kept
+      existing = OcTreeChildren::mask(node);
+      if (existing == 0 || (!isLeaf(n1) && n1.bv.size() > box.size())) return true;
       const fcl::Vector3<S> mid = box.centre();
-      const S tol = childTolerance(mesh_node, box);
-      for (unsigned int rest = unknown_cells ? 0xffu : existing; rest && num_kept < 2; rest &= rest - 1)
-      {
-        const unsigned int i = lowestBit(rest);
-        const CellBox<S> child_box = box.child(i, mid);
-        if (boxesApart(mesh_node, child_box, tol)) continue;
-        ++num_kept;
-        kept = (existing >> i) & 1 ? int(i) : -1;
-        kept_box = child_box;
-      }
-      if (num_kept != 1 || kept < 0) return true;
+      const unsigned int kept = (unknown_cells ? 0xffu : existing) &
+                                ~childrenApart(mesh_node, box, mid, childTolerance(mesh_node, box));
+      // Moved down only to a single kept child that exists.
+      if (kept == 0 || (kept & (kept - 1)) != 0 || (kept & existing) == 0) return true;
       if (pruned(node)) return false;
-      node = OcTreeChildren::child(node, unsigned(kept));
-      box = kept_box;
+      const unsigned int i = lowestBit(kept);
+      node = OcTreeChildren::child(node, i);
+      box = box.child(i, mid);
     }
   }
-  /// Whether the cell box `box` misses a mesh node's box (`node`, nodeBox) along an axis of the octree's frame by
-  /// more than the rounding bound of a pair test of the two (pairRoundingBound of the node's, the cell's and the
-  /// leaf tolerance's offsets, as addCell's, and of both reaches): then the RS test of the pair, and every leaf test
-  /// below it, would find them apart as well.
-  /// `tol` is childTolerance(node, parent) of the cell's parent box.
-  bool boxesApart(const NodeBox& node, const CellBox<S>& box, S tol) const
+  /// The children of the cell box `box` (centre `mid`) whose boxes (CellBox::child) miss a mesh node's box (`node`,
+  /// nodeBox) along an axis of the octree's frame by more than the rounding bound of a pair test of the two
+  /// (pairRoundingBound of the node's, the cell's and the leaf tolerance's offsets, as addCell's, and of both
+  /// reaches): then the RS test of the pair, and every leaf test below it, would find them apart as well. A mask
+  /// (bit i: child i). `tol` is childTolerance(node, box).
+  unsigned int childrenApart(const NodeBox& node, const CellBox<S>& box, const fcl::Vector3<S>& mid, S tol) const
   {
-    const fcl::Vector3<S> half = (box.max - box.min) / 2;
-    // The largest gap against the tolerance: one comparison, not a branch per axis.
-    return ((box.centre() - node.centre).cwiseAbs() - half - node.half).maxCoeff() > tol;
+    // A child's box is the lower or the upper half of the cell's along each axis (bit k of its index clear: the
+    // lower), so its gaps are three of six, each with the operations a gap of the child's box takes (its centre
+    // (lo + hi) * 0.5, its half extent (hi - lo) / 2): the same values. It is apart when one exceeds tol. No child
+    // box is made, and no branch taken, for the children left out.
+    constexpr unsigned int kLowerHalf[3] = {0x55u, 0x33u, 0x0fu};
+    unsigned int apart = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const S lower_gap =
+          std::abs((box.min[k] + mid[k]) * S(0.5) - node.centre[k]) - (mid[k] - box.min[k]) / 2 - node.half[k];
+      const S upper_gap =
+          std::abs((mid[k] + box.max[k]) * S(0.5) - node.centre[k]) - (box.max[k] - mid[k]) / 2 - node.half[k];
+      apart |= (kLowerHalf[k] & -unsigned(lower_gap > tol)) | (~kLowerHalf[k] & 0xffu & -unsigned(upper_gap > tol));
+    }
+    return apart;
   }
-  /// boxesApart's tolerance for every child of the cell box `parent` (centre c, half extent h), computed once per
+  /// childrenApart's tolerance for every child of the cell box `parent` (centre c, half extent h), computed once per
   /// split: a child's centre c' and half extent h / 2 give cellOffsets(c', h / 2) <= cellOffsets(c, h) (|c'|_1 <=
   /// |c|_1 + 3 h / 2) and a smaller reach, and the bound grows with both.
   S childTolerance(const NodeBox& node, const CellBox<S>& parent) const
@@ -541,12 +549,12 @@ private:
   /// |box pose's translation|_1 <= |t_octree|_1 + sqrt(3) |c'|_1 and |mesh in the box's frame|_1 <=
   /// |mesh in the octree's frame|_1 + |c'|_1, with |c'|_1 <= |c|_1 + 3 h and h' <= h; so that no test of the
   /// cell prunes a triangle the leaf test reports.
-  int addCell(const OcTreeNode* node, bool leaf, const CellBox<S>& box, int shape)
+  int addCell(const OcTreeNode* node, unsigned int existing, const CellBox<S>& box, int shape)
   {
     const fcl::Vector3<S> centre = box.centre();
     const OcTreeCellShape<S>& cell_shape = shapes_[std::size_t(shape)];
     const auto moved = cell_shape.moved.movedOrigin(R_, T_, centre, cellOffsets(centre, cell_shape.reach));
-    cells_.push_back(OcTreeCell<S>{node, leaf, box, shape, moved.origin, moved.centre, moved.offsets});
+    cells_.push_back(OcTreeCell<S>{node, existing, box, shape, moved.origin, moved.centre, moved.offsets});
     return int(cells_.size() - 1);
   }
   /// The octree's root box (fcl::OcTree::getRootBV).
