@@ -229,11 +229,14 @@ struct OcTreeCellShape
 /// An octree cell a traversal reached: its node (nullptr: a cell the octree does not store, visited only for the
 /// cost of unknown space, as FCL does), the node's children (OcTreeChildren::mask; none: a leaf), its box in the
 /// octree's frame, its shape (an index into the query's), and the shape's RS moved to the cell (the parts of the
-/// shape's moved frame that MovedFrame::movedOrigin gives: the origin, the box centre, the offsets).
+/// shape's moved frame that MovedFrame::movedOrigin gives: the origin, the box centre, the offsets). A cell of a
+/// pruned descent is made unplaced (OcTreeMeshQuery::place: the children of the node, the move down the octree and
+/// the moved parts are found when the cell is first visited).
 template <typename S>
 struct OcTreeCell
 {
   const typename fcl::OcTree<S>::OcTreeNode* node;
+  bool placed;
   unsigned int existing;
   CellBox<S> box;
   int shape;
@@ -354,7 +357,8 @@ public:
   /// `unknown_cells` (cost requested and the mesh not free), else skipped. With `pruned`
   /// (collision: the policy's test of a cell's node, not of its box), a cell's children whose boxes miss the mesh
   /// node's principal box are left out before their boxes are made (childrenApart: most of a split's eight are, and a
-  /// cell costs more than that test), and each other child is moved down by skipSingleSplits.
+  /// cell costs more than that test), and each other child is made unplaced: place() moves it down and completes it
+  /// when it is first visited. Nearest first orders such cells by their boxes before they move down.
   /// The `pruned` of a descent without pruning (distance).
   struct NothingPruned
   {
@@ -380,49 +384,29 @@ public:
     const CellBox<S> box = cells_[std::size_t(v.cell)].box;
     const fcl::Vector3<S> mid = box.centre();
     const NodeBox* mesh_node = pruned || nearer_first ? &nodeBox(v.b1) : nullptr;
-    const S tol = pruned ? childTolerance(*mesh_node, box) : S(0);
     const OcTreeNode* child_nodes[8];
     CellBox<S> child_boxes[8];
-    unsigned int child_existing[8];
-    bool moved[8];
-    fcl::Vector3<S> half = fcl::Vector3<S>::Zero();  // of the children not moved down
-    bool any_in_place = false;
+    fcl::Vector3<S> half = fcl::Vector3<S>::Zero();
     int n = 0;
     const unsigned int considered = unknown_cells ? 0xffu : existing;
-    for (unsigned int rest = pruned ? considered & ~childrenApart(*mesh_node, box, mid, tol) : considered; rest;
-         rest &= rest - 1)
+    const unsigned int kept =
+        pruned ? considered & ~childrenApart(*mesh_node, box, mid, childTolerance(*mesh_node, box)) : considered;
+    for (unsigned int rest = kept; rest; rest &= rest - 1)
     {
       const unsigned int i = lowestBit(rest);
-      const bool exists = (existing >> i) & 1;
       child_boxes[n] = box.child(i, mid);
-      child_nodes[n] = exists ? OcTreeChildren::child(node, i) : nullptr;
-      moved[n] = false;
-      child_existing[n] = 0;
-      if (pruned && exists)
-      {
-        const OcTreeNode* reached = child_nodes[n];
-        if (!skipSingleSplits(v.b1, *mesh_node, child_nodes[n], child_boxes[n], unknown_cells, *pruned,
-                              child_existing[n]))
-          continue;
-        moved[n] = child_nodes[n] != reached;
-      }
-      else if (exists)
-        child_existing[n] = OcTreeChildren::mask(child_nodes[n]);
-      if (!moved[n])
-      {
-        half = half.cwiseMax((child_boxes[n].max - child_boxes[n].min) / 2);
-        any_in_place = true;
-      }
+      child_nodes[n] = (existing >> i) & 1 ? OcTreeChildren::child(node, i) : nullptr;
+      half = half.cwiseMax((child_boxes[n].max - child_boxes[n].min) / 2);
       ++n;
     }
-    // The children differ in size by rounding only: one shape, the largest, serves them all; a child moved down
-    // has its own.
-    const int shared_shape = any_in_place ? cellShape(half) : -1;
+    if (n == 0) return 0;
+    // The children differ in size by rounding only: one shape, the largest, serves them all (a cell that place()
+    // moves down gets its own).
+    const int shape = cellShape(half);
     for (int i = 0; i < n; ++i)
-    {
-      const int own = moved[i] ? cellShape((child_boxes[i].max - child_boxes[i].min) / 2) : shared_shape;
-      out[i] = Pair{v.b1, addCell(child_nodes[i], child_existing[i], child_boxes[i], own)};
-    }
+      out[i] = Pair{v.b1, pruned ? addUnplacedCell(child_nodes[i], child_boxes[i], shape)
+                                 : addCell(child_nodes[i], child_nodes[i] ? OcTreeChildren::mask(child_nodes[i]) : 0,
+                                           child_boxes[i], shape)};
     if (nearer_first)
     {
       // The cells nearest the mesh node's box centre first.
@@ -437,6 +421,28 @@ public:
         }
     }
     return n;
+  }
+
+  /// Places the pair's cell when it is visited for the first time, as children() with `pruned` would have made it:
+  /// moved down by skipSingleSplits against the pair's mesh node (the node it was made for: a cell is paired with
+  /// other mesh nodes only after this pair is split), its children read, its RS moved. Most cells a first-contact
+  /// descent makes are never visited. A cell whose move down meets a node `pruned` prunes stays at that node as a
+  /// leaf, which the descent's tests prune.
+  template <typename Pruned>
+  void place(const Pair& p, bool unknown_cells, const Pruned& pruned)
+  {
+    OcTreeCell<S>& c = cells_[std::size_t(p.cell)];  // place() adds no cell: the reference stays valid
+    if (c.placed) return;
+    c.placed = true;
+    if (!c.node) return placeAt(c);
+    const OcTreeNode* reached = c.node;
+    if (!skipSingleSplits(p.b1, nodeBox(p.b1), c.node, c.box, unknown_cells, pruned, c.existing))
+    {
+      c.existing = 0;
+      return;
+    }
+    if (c.node != reached) c.shape = cellShape((c.box.max - c.box.min) / 2);
+    placeAt(c);
   }
 
   const fcl::BVHModel<RS<S>>& mesh() const { return mesh_; }
@@ -551,11 +557,25 @@ private:
   /// cell prunes a triangle the leaf test reports.
   int addCell(const OcTreeNode* node, unsigned int existing, const CellBox<S>& box, int shape)
   {
-    const fcl::Vector3<S> centre = box.centre();
-    const OcTreeCellShape<S>& cell_shape = shapes_[std::size_t(shape)];
-    const auto moved = cell_shape.moved.movedOrigin(R_, T_, centre, cellOffsets(centre, cell_shape.reach));
-    cells_.push_back(OcTreeCell<S>{node, existing, box, shape, moved.origin, moved.centre, moved.offsets});
+    cells_.push_back(OcTreeCell<S>{node, true, existing, box, shape, {}, {}, {}});
+    placeAt(cells_.back());
     return int(cells_.size() - 1);
+  }
+  /// A cell for place() to complete.
+  int addUnplacedCell(const OcTreeNode* node, const CellBox<S>& box, int shape)
+  {
+    cells_.push_back(OcTreeCell<S>{node, false, 0, box, shape, {}, {}, {}});
+    return int(cells_.size() - 1);
+  }
+  /// The cell's moved parts, from its box and shape.
+  void placeAt(OcTreeCell<S>& c) const
+  {
+    const fcl::Vector3<S> centre = c.box.centre();
+    const OcTreeCellShape<S>& cell_shape = shapes_[std::size_t(c.shape)];
+    const auto moved = cell_shape.moved.movedOrigin(R_, T_, centre, cellOffsets(centre, cell_shape.reach));
+    c.origin = moved.origin;
+    c.centre = moved.centre;
+    c.offsets = moved.offsets;
   }
   /// The octree's root box (fcl::OcTree::getRootBV).
   CellBox<S> rootBox() const
@@ -606,6 +626,11 @@ public:
   bool root(Pair& pair)
   {
     return Base::prunedRoot(pair, unknownCells(), [this](const OcTreeNode* node) { return pruned(node); });
+  }
+  Visit visit(const Pair& p)
+  {
+    this->place(p, unknownCells(), [this](const OcTreeNode* node) { return pruned(node); });
+    return Base::visit(p);
   }
   bool nodeApart(const Visit& v)
   {
