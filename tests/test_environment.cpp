@@ -535,31 +535,59 @@ TYPED_TEST(EnvironmentTest, LinkSweepsBoundThePathOfEveryVertex)
   std::cout << "[sweeps] the tightest bound is " << tightest << " times a vertex's path\n";
 }
 
+/// Free segments of the Panda from random configurations (every joint within +-0.5 rad), each with a point of the
+/// hand's surface (a random vertex of its mesh) where the hand is at a given parameter: where the motion tests put
+/// small obstacles.
+template <typename S>
+class HandSurfacePoints
+{
+public:
+  explicit HandSurfacePoints(const Environment<S>& env) : env_(env), hand_(panda()->linkIndex("panda_hand")) {}
+
+  /// The next free segment; false when it is not free (the caller draws again).
+  bool draw(std::mt19937_64& rng)
+  {
+    from = env_.kinematics().randomConfiguration(rng);
+    to = from;
+    std::uniform_real_distribution<double> step(-0.5, 0.5);
+    for (int v = 0; v < to.size(); ++v)
+      to[v] = std::clamp(S(to[v] + step(rng)), env_.kinematics().lower()[v], env_.kinematics().upper()[v]);
+    return !env_.checkMotion(from, to).colliding;
+  }
+  /// A point of the hand's surface at parameter t of the segment drawn last.
+  fcl::Vector3<S> at(S t, std::mt19937_64& rng) const
+  {
+    const TriangleMesh<double>& mesh = panda()->links[hand_].mesh;
+    std::uniform_int_distribution<std::size_t> vertex(0, mesh.vertices.size() - 1);
+    return env_.kinematics().linkPoses(along(from, to, t))[hand_] * mesh.vertices[vertex(rng)].template cast<S>();
+  }
+
+  fcl::VectorX<S> from, to;
+
+private:
+  const Environment<S>& env_;
+  int hand_;
+};
+
 TYPED_TEST(EnvironmentTest, MotionChecksCatchAGrazingObstacleBetweenSamples)
 {
   using S = TypeParam;
   if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
   auto rng = test::seededRng("MotionChecksCatchAGrazingObstacleBetweenSamples/" + test::scalarName<S>());
   Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
-  const int hand = panda()->linkIndex("panda_hand");
-  const TriangleMesh<double>& hand_mesh = panda()->links[hand].mesh;
-  ASSERT_FALSE(hand_mesh.vertices.empty());
-  std::uniform_real_distribution<double> step(-0.5, 0.5);
-  std::uniform_int_distribution<std::size_t> vertex(0, hand_mesh.vertices.size() - 1);
+  ASSERT_FALSE(panda()->links[panda()->linkIndex("panda_hand")].mesh.vertices.empty());
+  HandSurfacePoints<S> segment(env);
+  const fcl::VectorX<S>& from = segment.from;
+  const fcl::VectorX<S>& to = segment.to;
   const int resolution = 100;  // a discrete checker's samples along the segment
   int missed_by_sampling = 0;
   for (int i = 0; i < 12; ++i)
   {
-    const fcl::VectorX<S> from = env.kinematics().randomConfiguration(rng);
-    fcl::VectorX<S> to = from;
-    for (int v = 0; v < to.size(); ++v)
-      to[v] = std::clamp(S(to[v] + step(rng)), env.kinematics().lower()[v], env.kinematics().upper()[v]);
-    if (env.checkMotion(from, to).colliding) continue;
+    if (!segment.draw(rng)) continue;
     // A speck on the hand's surface halfway between two samples.
     const int k = resolution / 2;
     const S t = (S(k) + S(0.5)) / S(resolution);
-    const fcl::Vector3<S> p =
-        env.kinematics().linkPoses(along(from, to, t))[hand] * hand_mesh.vertices[vertex(rng)].template cast<S>();
+    const fcl::Vector3<S> p = segment.at(t, rng);
     env.addShape("speck", std::make_shared<fcl::Sphere<S>>(S(2e-4)), at<S>(p.x(), p.y(), p.z()));
     SCOPED_TRACE(::testing::Message() << "segment " << i << " from " << from.transpose() << " to " << to.transpose());
     ASSERT_TRUE(env.query(along(from, to, t)).colliding);
@@ -573,6 +601,45 @@ TYPED_TEST(EnvironmentTest, MotionChecksCatchAGrazingObstacleBetweenSamples)
   }
   std::cout << "[grazing] " << missed_by_sampling << " specks fall between two of " << resolution << " samples\n";
   EXPECT_GT(missed_by_sampling, 0);
+}
+
+/// Without earliest, a motion check takes coarse intervals first, so it may certify the part of a segment after a
+/// collision before the part before it: free_until must still be where the certified intervals from the start stop.
+/// A small box on the hand's surface at t = 0.3 of free segments: the collision lies early, the rest is free.
+TYPED_TEST(EnvironmentTest, MotionChecksWithoutEarliestCertifyOnlyTheFreeStart)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  auto rng = test::seededRng("MotionChecksWithoutEarliestCertifyOnlyTheFreeStart/" + test::scalarName<S>());
+  Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
+  HandSurfacePoints<S> segment(env);
+  const fcl::VectorX<S>& from = segment.from;
+  const fcl::VectorX<S>& to = segment.to;
+  MotionRequest<S> request;
+  request.earliest = false;
+  const int samples = 1000;
+  int checked = 0;
+  for (int i = 0; i < 40 && checked < 8; ++i)
+  {
+    if (!segment.draw(rng)) continue;
+    const fcl::Vector3<S> p = segment.at(S(0.3), rng);
+    env.addShape("box", std::make_shared<fcl::Box<S>>(S(0.01), S(0.01), S(0.01)), at<S>(p.x(), p.y(), p.z()));
+    if (!env.query(from).colliding)
+    {
+      SCOPED_TRACE(::testing::Message() << "segment " << i << " from " << from.transpose() << " to " << to.transpose());
+      const MotionResult<S> motion = env.checkMotion(from, to, request);
+      int first = -1;
+      for (int k = 0; k <= samples && first < 0; ++k)
+        if (env.query(along(from, to, S(k) / S(samples))).colliding) first = k;
+      ASSERT_GT(first, 0);
+      EXPECT_TRUE(motion.colliding);
+      EXPECT_TRUE(env.query(along(from, to, motion.parameter)).colliding) << "parameter " << motion.parameter;
+      EXPECT_LE(motion.free_until, S(first) / S(samples) + S(1e-6)) << "parameter " << motion.parameter;
+      ++checked;
+    }
+    env.remove("box");
+  }
+  EXPECT_EQ(checked, 8);
 }
 
 TYPED_TEST(EnvironmentTest, PathsReportTheSegmentAndParameter)

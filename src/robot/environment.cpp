@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -877,8 +878,8 @@ struct Environment<S>::Impl
     s.asked[i] = d < enough ? std::numeric_limits<S>::infinity() : enough;
   }
 
-  /// One segment, parameters in [0, 1] (see the class comment). Intervals are taken left first, so when a
-  /// colliding configuration is reported every interval before it has been certified.
+  /// One segment, parameters in [0, 1] (see the class comment). free_until is where the intervals certified
+  /// from 0 stop.
   MotionResult<S> segment(const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, const MotionRequest<S>& request) const
   {
     const std::vector<MotionPair> pairs = motionPairs();
@@ -893,26 +894,41 @@ struct Environment<S>::Impl
       int a, b;
       std::vector<int> active;
     };
-    std::vector<Interval> stack;
+    // With earliest, intervals are taken left first (a stack), so when a colliding configuration is reported
+    // every interval before it has been certified. Without, coarse intervals first (a queue): a colliding segment
+    // is found colliding at the first midpoint inside the collision, before the parts around it are certified.
+    std::deque<Interval> waiting;
     {
       Interval all{0, 1, std::vector<int>(pairs.size())};
       for (std::size_t i = 0; i < pairs.size(); ++i) all.active[i] = int(i);
-      stack.push_back(std::move(all));
+      waiting.push_back(std::move(all));
     }
     std::vector<Sample> samples;
-    samples.push_back(sampleAt(from, to, S(0), pairs, stack.back().active));
-    samples.push_back(sampleAt(from, to, S(1), pairs, stack.back().active));
-    const auto collision = [&](S t, S free_until) {
+    samples.push_back(sampleAt(from, to, S(0), pairs, waiting.back().active));
+    samples.push_back(sampleAt(from, to, S(1), pairs, waiting.back().active));
+    std::vector<std::pair<S, S>> certified;  // intervals found free
+    const auto collision = [&](S t) {
+      // free_until: where the certified intervals from 0 stop.
+      std::sort(certified.begin(), certified.end());
+      S free_until = 0;
+      for (const auto& [lo, hi] : certified)
+      {
+        if (lo > free_until) break;
+        free_until = std::max(free_until, hi);
+      }
       result.colliding = true;
       result.parameter = t;
-      result.free_until = free_until;
+      result.free_until = std::min(free_until, t);
       result.configurations_checked = int(samples.size());
       return result;
     };
-    while (!stack.empty())
+    while (!waiting.empty())
     {
-      Interval interval = std::move(stack.back());
-      stack.pop_back();
+      Interval interval = std::move(request.earliest ? waiting.back() : waiting.front());
+      if (request.earliest)
+        waiting.pop_back();
+      else
+        waiting.pop_front();
       Sample& a = samples[interval.a];
       Sample& b = samples[interval.b];
       const S dt = b.t - a.t;
@@ -920,17 +936,31 @@ struct Environment<S>::Impl
       // Once a pair stays uncertified the interval is halved anyway: the other pairs' bounds are raised on the
       // halves, where less is enough (an interval too short to halve raises every bound).
       const bool thorough = dt < shortest;
+      // The pairs whose motion the ends' bounds do not cover, those whose bounds cover least of it first: the
+      // likeliest to stay uncertified (or to collide), so the others are not raised on an interval halved anyway.
+      struct Uncovered
+      {
+        S covered;  ///< the ends' bounds over the motion
+        int pair;
+        S motion;
+      };
+      std::vector<Uncovered> uncovered;
       for (int i : interval.active)
       {
         const S m = moved(a, step, pairs[i], dt, pad);
-        if (m < a.bound[i] + b.bound[i]) continue;
+        if (!(m < a.bound[i] + b.bound[i])) uncovered.push_back({(a.bound[i] + b.bound[i]) / m, i, m});
+      }
+      std::stable_sort(uncovered.begin(), uncovered.end(),
+                       [](const Uncovered& x, const Uncovered& y) { return x.covered < y.covered; });
+      for (const auto& [covered, i, m] : uncovered)
+      {
         if (!remaining.empty() && !thorough)
         {
           remaining.push_back(i);
           continue;
         }
         refine(a, pairs[i], i, m, pad, result);
-        if (a.colliding) return collision(a.t, a.t);
+        if (a.colliding) return collision(a.t);
         if (m < a.bound[i] + b.bound[i]) continue;
         refine(b, pairs[i], i, m, pad, result);
         if (m < a.bound[i] + b.bound[i]) continue;
@@ -938,16 +968,16 @@ struct Environment<S>::Impl
       }
       if (remaining.empty())
       {
-        if (b.colliding) return collision(b.t, b.t);
-        result.free_until = b.t;
+        certified.emplace_back(a.t, b.t);
+        if (b.colliding) return collision(b.t);
         continue;
       }
-      if (b.colliding && (!request.earliest || dt <= request.tolerance)) return collision(b.t, a.t);
+      if (b.colliding && (!request.earliest || dt <= request.tolerance)) return collision(b.t);
       // A pair that stays within rounding of contact without touching: bisection cannot certify it. An interval
       // this short joins configurations a few ulps apart, which the ends' bounds or collision tests found free.
       if (thorough)
       {
-        result.free_until = b.t;
+        certified.emplace_back(a.t, b.t);
         continue;
       }
       const int b_index = interval.b, a_index = interval.a;
@@ -960,8 +990,16 @@ struct Environment<S>::Impl
       for (int i : remaining)
         middle.bound[i] = std::max({middle.bound[i], start.bound[i] - moved(start, step, pairs[i], half, pad),
                                     samples[b_index].bound[i] - moved(middle, step, pairs[i], half, pad)});
-      stack.push_back({mid, b_index, remaining});
-      stack.push_back({a_index, mid, std::move(remaining)});
+      if (request.earliest)  // the left half on top
+      {
+        waiting.push_back({mid, b_index, remaining});
+        waiting.push_back({a_index, mid, std::move(remaining)});
+      }
+      else
+      {
+        waiting.push_back({a_index, mid, remaining});
+        waiting.push_back({mid, b_index, std::move(remaining)});
+      }
     }
     result.free_until = 1;
     result.configurations_checked = int(samples.size());
