@@ -6,7 +6,7 @@
 // segment-segment, segment-box and triangle-triangle distances over the features that can hold the closest pair).
 // Cylinder, cone and ellipsoid have no closed form: GJK on their exact support functions (not FCL's, which adds
 // margins and tolerances), stopped when its certified lower bound is within kIterativeRelativeGap of the distance
-// it has reached (docs/distance.md).
+// it has reached (docs/distance.md); the cylinder's collision verdict is closed form wherever that settles it.
 //
 // Collision verdict: the pair is reported iff the computed distance of the moved triangle to the shape is at most
 // leafTolerance (triangle_intersection.h) of the triangle's and the shape's largest coordinates and the poses, the
@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -837,18 +838,21 @@ private:
   double d_;
 };
 
-/// Cylinder, cone and ellipsoid: GJK on their exact support functions.
+/// Cylinder, cone and ellipsoid: GJK on their exact support functions. The collision verdict first asks
+/// Derived::decides, a closed-form verdict where a cheap one settles the triangle (none: GJK decides).
 template <typename Derived>
 class IterativeGeometry
 {
 public:
   bool meets(const Vec t[3], double tol) const
   {
+    if (const std::optional<bool> verdict = static_cast<const Derived*>(this)->decides(t, tol)) return *verdict;
     double lower;
     gjk(t, support(), tol, tol, lower);
     return lower <= tol;
   }
-  /// One GJK run for both: meets as meets(t, tol) decides it, else the closest points.
+  /// One GJK run for both: meets as meets(t, tol) decides it (to rounding: decides' verdicts keep a margin from
+  /// the tolerance, so GJK's agrees), else the closest points.
   Closest closest(const Vec t[3], double tol, bool& meets) const
   {
     double lower;
@@ -861,6 +865,8 @@ public:
     bool meets;
     return closest(t, 0, meets);
   }
+  /// No closed-form verdict (a shape that has one hides this).
+  std::optional<bool> decides(const Vec*, double) const { return std::nullopt; }
 
 private:
   auto support() const
@@ -880,6 +886,19 @@ public:
     const double radial = std::hypot(d.x(), d.y());
     const double s = radial > 0 ? r_ / radial : 0;
     return Vec(s * d.x(), s * d.y(), d.z() >= 0 ? h_ : -h_);
+  }
+  /// Meets where a point of the triangle lies inside the cylinder: a vertex, or the triangle's point nearest the
+  /// axis segment. Apart where the triangle is apart from the capsule around the cylinder (same axis segment and
+  /// radius) by more than twice the tolerance, so that GJK, were it asked, would not report it either. Only
+  /// triangles near the rims or at the tolerance go on to GJK.
+  std::optional<bool> decides(const Vec t[3], double tol) const
+  {
+    const auto inside = [&](const Vec& x) { return std::abs(x.z()) <= h_ && x.x() * x.x() + x.y() * x.y() <= r_ * r_; };
+    if (inside(t[0]) || inside(t[1]) || inside(t[2])) return true;
+    const Closest axis = segmentTriangle(t, Vec(0, 0, -h_), Vec(0, 0, h_));
+    if (axis.distance > r_ + 2 * tol) return false;
+    if (inside(axis.on_triangle)) return true;
+    return std::nullopt;
   }
 
 private:
