@@ -297,10 +297,11 @@ public:
                          *this->result);
   }
 
+  using Leaf = TriangleShapeLeaf<Shape>;
   /// Held by value: a query that visits one or two nodes would otherwise spend a good part of its time in the
   /// allocator.
   std::optional<ShapeBound<S, Shape>> bound;
-  std::optional<TriangleShapeLeaf<Shape>> leaf;
+  std::optional<Leaf> leaf;
 };
 
 /// Sets up node for the mesh model1 at tf1 against the shape model2 at tf2; false unless model1 is a triangle
@@ -328,8 +329,10 @@ bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& nod
 namespace detail {
 
 /// The descent policy of mesh-shape collision (descendDepthFirst): a leaf is tested against the shape's bound
-/// before the leaf test, as in FCL's recursion. Child order as MeshCollisionDescent's: FCL's unless the request
-/// stops after a few contacts; then the child whose origin is nearer the shape's goes first.
+/// before the leaf test, as in FCL's recursion, unless the leaf test opens with a cheaper rejection of its own
+/// (TriangleShapeLeaf::kRejectsCheaply: the triangle's extent along the shape's axes and normal). Child order as
+/// MeshCollisionDescent's: FCL's unless the request stops after a few contacts; then the child whose origin is
+/// nearer the shape's goes first.
 template <typename Node>
 class MeshShapeCollisionDescent : public MeshShapeDescent<Node>
 {
@@ -345,7 +348,8 @@ public:
   }
   bool leafTest(const Visit& v)
   {
-    if (this->node_.Node::BVTesting(v.b1, 0)) return false;
+    if constexpr (!Node::Leaf::kRejectsCheaply)
+      if (this->node_.Node::BVTesting(v.b1, 0)) return false;
     this->node_.Node::leafTesting(v.b1, 0);
     return this->node_.request.isSatisfied(*this->node_.result);
   }
@@ -380,9 +384,9 @@ void collideMeshShape(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver
 /// bv_in_shape is its RS fitted once in its own frame (fcl::computeBV with the identity), moved into the mesh's
 /// frame per query (ShapeBound) rather than refitted. The mesh's root is tested against it before the traversal
 /// is set up: most shapes that pass a caller's cheaper culling (balls, boxes) are still apart from the root, and a
-/// query that visits one node should not pay the traversal's set-up. The root test covers the leaf test's tolerance, as the traversal's
-/// bound does, so it prunes nothing fcl_rs::collide would report. The answer is fcl_rs::collide's for the
-/// same request; result gets its contacts.
+/// query that visits one node should not pay the traversal's set-up. The root test covers the leaf test's
+/// tolerance, as the traversal's bound does, so it prunes nothing fcl_rs::collide would report. The answer is
+/// fcl_rs::collide's for the same request; result gets its contacts.
 template <typename Shape, typename NarrowPhaseSolver>
 bool collidePlacedShape(const fcl::BVHModel<RS<typename Shape::S>>& mesh, const fcl::Transform3<typename Shape::S>& tf_mesh,
                         const Shape& shape, const RS<typename Shape::S>& bv_in_shape,
