@@ -197,13 +197,12 @@ std::size_t fclCollideRelative(const fcl::CollisionGeometry<S>* o1, const fcl::T
   return result.numContacts();
 }
 
+/// m1, m2: o1 and o2 as RS meshes (asRSMesh), at least one of them.
 template <typename S, typename Solver>
-std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::Transform3<S>& tf1,
-                      const fcl::CollisionGeometry<S>* o2, const fcl::Transform3<S>& tf2, const Solver* solver,
-                      const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
+std::size_t collideRS(const fcl::CollisionGeometry<S>* o1, const fcl::BVHModel<RS<S>>* m1, const fcl::Transform3<S>& tf1,
+                      const fcl::CollisionGeometry<S>* o2, const fcl::BVHModel<RS<S>>* m2, const fcl::Transform3<S>& tf2,
+                      const Solver* solver, const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
 {
-  const auto* m1 = asRSMesh(o1);
-  const auto* m2 = asRSMesh(o2);
   if (m1) detail::requireBuiltTriangles(kApi, *m1);
   if (m2) detail::requireBuiltTriangles(kApi, *m2);
   if (m1 && m2) return meshMesh(*m1, tf1, *m2, tf2, request, result);
@@ -228,21 +227,23 @@ std::size_t collideValidated(const fcl::CollisionGeometry<S>* o1, const fcl::Tra
                              const fcl::CollisionRequest<S>& request, fcl::CollisionResult<S>& result)
 {
   if (!o1 || !o2) throw std::invalid_argument("fcl_rs::collide: null collision geometry");
-  if (!asRSMesh(o1) && !asRSMesh(o2)) return fclCollideRelative(o1, tf1, o2, tf2, request, result);
+  const auto* m1 = asRSMesh(o1);
+  const auto* m2 = asRSMesh(o2);
+  if (!m1 && !m2) return fclCollideRelative(o1, tf1, o2, tf2, request, result);
   switch (request.gjk_solver_type)
   {
     case fcl::GST_LIBCCD:
     {
       fcl::detail::GJKSolver_libccd<S> solver;
       solver.collision_tolerance = request.gjk_tolerance;
-      return collideRS(o1, tf1, o2, tf2, &solver, request, result);
+      return collideRS(o1, m1, tf1, o2, m2, tf2, &solver, request, result);
     }
     case fcl::GST_INDEP:
     {
       fcl::detail::GJKSolver_indep<S> solver;
       solver.gjk_tolerance = request.gjk_tolerance;
       solver.epa_tolerance = request.gjk_tolerance;
-      return collideRS(o1, tf1, o2, tf2, &solver, request, result);
+      return collideRS(o1, m1, tf1, o2, m2, tf2, &solver, request, result);
     }
   }
   throw std::invalid_argument("fcl_rs::collide: unknown request.gjk_solver_type");

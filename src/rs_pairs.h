@@ -16,9 +16,12 @@
 namespace fcl_rs {
 namespace detail {
 
+/// g as an RS mesh, or nullptr. A shape or octree is told by its object type, without the dynamic_cast, which
+/// costs a small query about what its traversal's set-up does.
 template <typename S>
 const fcl::BVHModel<RS<S>>* asRSMesh(const fcl::CollisionGeometry<S>* g)
 {
+  if (g->getObjectType() != fcl::OT_BVH) return nullptr;
   return dynamic_cast<const fcl::BVHModel<RS<S>>*>(g);
 }
 

@@ -919,7 +919,8 @@ TYPED_TEST(CollideMeshShape, PandaLinkBothOrdersMatchOBBTree)
 
 /// fcl_rs::collide's mesh-shape driver (collideMeshShape's loop) answers as FCL's own driver and recursion
 /// (fcl::detail::orientedBVHShapeCollide) do with the same traversal node: the same contacts in the same order,
-/// and the same cost sources, exact and approximate.
+/// and the same cost sources, exact and approximate. A first-contact request visits the nearer child first, so
+/// its contact is one the exhaustive request reports, not necessarily FCL's first.
 TYPED_TEST(CollideMeshShape, LoopMatchesFclsDriverOnContactsAndCosts)
 {
   using S = TypeParam;
@@ -942,6 +943,7 @@ TYPED_TEST(CollideMeshShape, LoopMatchesFclsDriverOnContactsAndCosts)
     const fcl::Transform3<S> tf_mesh = fcl_rs::test::randomPose<S>(rng, S(2));
     fcl::Transform3<S> tf_box = fcl_rs::test::randomPose<S>(rng, S(1));
     tf_box.translation() += tf_mesh.translation();
+    fcl::CollisionResult<S> exhaustive;
     for (std::size_t r = 0; r < requests.size(); ++r)
     {
       SCOPED_TRACE("pose #" + std::to_string(i) + ", request " + std::to_string(r));
@@ -953,9 +955,19 @@ TYPED_TEST(CollideMeshShape, LoopMatchesFclsDriverOnContactsAndCosts)
       ASSERT_EQ(ours.numContacts(), fcls.numContacts());
       for (std::size_t c = 0; c < ours.numContacts(); ++c)
       {
+        if (r == 1)
+        {
+          int found = 0;
+          for (std::size_t e = 0; e < exhaustive.numContacts(); ++e)
+            found += exhaustive.getContact(e).b1 == ours.getContact(c).b1 &&
+                     exhaustive.getContact(e).pos == ours.getContact(c).pos;
+          EXPECT_EQ(found, 1) << "the first contact is not one of the exhaustive request's";
+          continue;
+        }
         EXPECT_EQ(ours.getContact(c).b1, fcls.getContact(c).b1);
         EXPECT_EQ(ours.getContact(c).pos, fcls.getContact(c).pos);
       }
+      if (r == 0) exhaustive = ours;
       std::vector<fcl::CostSource<S>> our_costs, fcl_costs;
       ours.getCostSources(our_costs);
       fcls.getCostSources(fcl_costs);

@@ -6,7 +6,7 @@
 // segment-segment, segment-box and triangle-triangle distances over the features that can hold the closest pair).
 // Cylinder, cone and ellipsoid have no closed form: GJK on their exact support functions (not FCL's, which adds
 // margins and tolerances), stopped when its certified lower bound is within kIterativeRelativeGap of the distance
-// it has reached (docs/distance.md).
+// it has reached (docs/distance.md); the cylinder's collision verdict is closed form wherever that settles it.
 //
 // Collision verdict: the pair is reported iff the computed distance of the moved triangle to the shape is at most
 // leafTolerance (triangle_intersection.h) of the triangle's and the shape's largest coordinates and the poses, the
@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -596,8 +597,30 @@ Closest gjk(const Vec t[3], const Support& support, double touch, double apart, 
   return gjk(supportOf, Vec(-t[0]), touch, apart, lower);
 }
 
+/// Whether triangle t lies outside the box [-h, h] by more than tol along one of the box's axes.
+inline bool outsideBox(const Vec t[3], const Vec& h, double tol)
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    const double lo = std::min({t[0][k], t[1][k], t[2][k]}), hi = std::max({t[0][k], t[1][k], t[2][k]});
+    if (lo > h[k] + tol || hi < -h[k] - tol) return true;
+  }
+  return false;
+}
+
+/// Whether axis (any length) separates triangle t from a shape symmetric about the origin that reaches `reach`
+/// along it, by more than tol |axis|_1 (>= tol |axis|): the triangle's projections against [-reach, reach].
+inline bool separatedAlong(const Vec t[3], const Vec& axis, double reach, double tol)
+{
+  const double p0 = axis.dot(t[0]), p1 = axis.dot(t[1]), p2 = axis.dot(t[2]);
+  const double r = reach + tol * axis.lpNorm<1>();
+  return std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r;
+}
+
 /// A primitive in its own frame: `meets` decides the collision verdict within a tolerance, `closest` the
 /// distance of a triangle that does not meet it. reach: the shape's largest coordinate (the tolerance's scale).
+/// kRejectsCheaply: meets opens with the triangle's extent along the shape's axes and normal, a rejection that
+/// costs less than a node test of the triangle's leaf, so the traversal skips that test.
 template <typename Shape>
 class ShapeGeometry;
 
@@ -605,6 +628,7 @@ template <typename S>
 class ShapeGeometry<fcl::Sphere<S>>
 {
 public:
+  static constexpr bool kRejectsCheaply = false;
   explicit ShapeGeometry(const fcl::Sphere<S>& s) : r_(s.radius) {}
   double reach() const { return r_; }
   Closest closest(const Vec t[3]) const
@@ -623,6 +647,7 @@ template <typename S>
 class ShapeGeometry<fcl::Capsule<S>>
 {
 public:
+  static constexpr bool kRejectsCheaply = true;
   explicit ShapeGeometry(const fcl::Capsule<S>& c) : r_(c.radius), h_(double(c.lz) / 2) {}
   double reach() const { return r_ + h_; }
   Closest closest(const Vec t[3]) const
@@ -635,6 +660,9 @@ public:
   }
   bool meets(const Vec t[3], double tol) const
   {
+    if (outsideBox(t, Vec(r_, r_, h_ + r_), tol)) return false;
+    const Vec n = (t[1] - t[0]).cross(t[2] - t[0]);
+    if (separatedAlong(t, n, std::abs(n.z()) * h_ + r_ * n.norm(), tol)) return false;
     return segmentTriangle(t, Vec(0, 0, -h_), Vec(0, 0, h_)).distance <= r_ + tol;
   }
 
@@ -646,6 +674,7 @@ template <typename S>
 class ShapeGeometry<fcl::Box<S>>
 {
 public:
+  static constexpr bool kRejectsCheaply = true;
   explicit ShapeGeometry(const fcl::Box<S>& b) : h_(b.side.template cast<double>() / 2) {}
   double reach() const { return h_.maxCoeff(); }
 
@@ -653,16 +682,8 @@ public:
   /// axes and triangle edges. A pair is separated along an axis L only by more than tol |L|_1 (>= tol |L|).
   bool meets(const Vec t[3], double tol) const
   {
-    for (int k = 0; k < 3; ++k)
-    {
-      const double lo = std::min({t[0][k], t[1][k], t[2][k]}), hi = std::max({t[0][k], t[1][k], t[2][k]});
-      if (lo > h_[k] + tol || hi < -h_[k] - tol) return false;
-    }
-    const auto separates = [&](const Vec& axis) {
-      const double p0 = axis.dot(t[0]), p1 = axis.dot(t[1]), p2 = axis.dot(t[2]);
-      const double r = h_.dot(axis.cwiseAbs()) + tol * axis.template lpNorm<1>();
-      return std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r;
-    };
+    if (outsideBox(t, h_, tol)) return false;
+    const auto separates = [&](const Vec& axis) { return separatedAlong(t, axis, h_.dot(axis.cwiseAbs()), tol); };
     if (separates((t[1] - t[0]).cross(t[2] - t[0]))) return false;
     for (int i = 0; i < 3; ++i)
     {
@@ -721,6 +742,7 @@ template <typename S>
 class ShapeGeometry<fcl::Convex<S>>
 {
 public:
+  static constexpr bool kRejectsCheaply = false;
   explicit ShapeGeometry(const fcl::Convex<S>& c)
   {
     const auto& vertices = c.getVertices();
@@ -788,6 +810,7 @@ template <typename S>
 class ShapeGeometry<fcl::Plane<S>>
 {
 public:
+  static constexpr bool kRejectsCheaply = false;
   explicit ShapeGeometry(const fcl::Plane<S>& p) : n_(p.n.template cast<double>()), d_(p.d) {}
   double reach() const { return std::abs(d_); }
   bool meets(const Vec t[3], double tol) const
@@ -815,6 +838,7 @@ template <typename S>
 class ShapeGeometry<fcl::Halfspace<S>>
 {
 public:
+  static constexpr bool kRejectsCheaply = false;
   explicit ShapeGeometry(const fcl::Halfspace<S>& p) : n_(p.n.template cast<double>()), d_(p.d) {}
   double reach() const { return std::abs(d_); }
   bool meets(const Vec t[3], double tol) const
@@ -837,18 +861,21 @@ private:
   double d_;
 };
 
-/// Cylinder, cone and ellipsoid: GJK on their exact support functions.
+/// Cylinder, cone and ellipsoid: GJK on their exact support functions. The collision verdict first asks
+/// Derived::decides, a closed-form verdict where a cheap one settles the triangle (none: GJK decides).
 template <typename Derived>
 class IterativeGeometry
 {
 public:
   bool meets(const Vec t[3], double tol) const
   {
+    if (const std::optional<bool> verdict = static_cast<const Derived*>(this)->decides(t, tol)) return *verdict;
     double lower;
     gjk(t, support(), tol, tol, lower);
     return lower <= tol;
   }
-  /// One GJK run for both: meets as meets(t, tol) decides it, else the closest points.
+  /// One GJK run for both: meets as meets(t, tol) decides it (to rounding: decides' verdicts keep a margin from
+  /// the tolerance, so GJK's agrees), else the closest points.
   Closest closest(const Vec t[3], double tol, bool& meets) const
   {
     double lower;
@@ -861,6 +888,9 @@ public:
     bool meets;
     return closest(t, 0, meets);
   }
+  /// No closed-form verdict (a shape that has one hides this and kRejectsCheaply).
+  std::optional<bool> decides(const Vec*, double) const { return std::nullopt; }
+  static constexpr bool kRejectsCheaply = false;
 
 private:
   auto support() const
@@ -873,6 +903,7 @@ template <typename S>
 class ShapeGeometry<fcl::Cylinder<S>> : public IterativeGeometry<ShapeGeometry<fcl::Cylinder<S>>>
 {
 public:
+  static constexpr bool kRejectsCheaply = true;
   explicit ShapeGeometry(const fcl::Cylinder<S>& c) : r_(c.radius), h_(double(c.lz) / 2) {}
   double reach() const { return std::max(r_, h_); }
   Vec support(const Vec& d) const
@@ -880,6 +911,23 @@ public:
     const double radial = std::hypot(d.x(), d.y());
     const double s = radial > 0 ? r_ / radial : 0;
     return Vec(s * d.x(), s * d.y(), d.z() >= 0 ? h_ : -h_);
+  }
+  /// Apart where the cylinder's axes or the triangle's normal separate them, or the triangle is apart from the
+  /// capsule around the cylinder (same axis segment and radius), each by more than twice the tolerance, so that
+  /// GJK, were it asked, would not report it either. Meets where a point of the triangle lies inside the
+  /// cylinder: a vertex, or the triangle's point nearest the axis segment. Only triangles near the rims or at the
+  /// tolerance go on to GJK.
+  std::optional<bool> decides(const Vec t[3], double tol) const
+  {
+    if (outsideBox(t, Vec(r_, r_, h_), 2 * tol)) return false;
+    const Vec n = (t[1] - t[0]).cross(t[2] - t[0]);
+    if (separatedAlong(t, n, std::abs(n.z()) * h_ + r_ * std::hypot(n.x(), n.y()), 2 * tol)) return false;
+    const auto inside = [&](const Vec& x) { return std::abs(x.z()) <= h_ && x.x() * x.x() + x.y() * x.y() <= r_ * r_; };
+    if (inside(t[0]) || inside(t[1]) || inside(t[2])) return true;
+    const Closest axis = segmentTriangle(t, Vec(0, 0, -h_), Vec(0, 0, h_));
+    if (axis.distance > r_ + 2 * tol) return false;
+    if (inside(axis.on_triangle)) return true;
+    return std::nullopt;
   }
 
 private:
@@ -931,6 +979,8 @@ class TriangleShapeLeaf
 {
 public:
   using S = typename Shape::S;
+  /// meets opens with a rejection cheaper than a node test (triangle_shape::ShapeGeometry).
+  static constexpr bool kRejectsCheaply = triangle_shape::ShapeGeometry<Shape>::kRejectsCheaply;
 
   TriangleShapeLeaf(const Shape& shape, const fcl::Transform3<S>& tf_mesh, const fcl::Transform3<S>& tf_shape)
     : geometry_(shape),

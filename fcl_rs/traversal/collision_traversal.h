@@ -187,36 +187,30 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
   detail::descendDepthFirst(descent, {0, 0});
 }
 
-/// How a shape is tested against the mesh's nodes: by its RS fitted once in the mesh's frame.
+/// How a shape is tested against the mesh's nodes: its RS in its own frame, moved into the mesh's frame once per
+/// query (BoxedFrame, as a mesh-mesh traversal moves the second tree's nodes), neither refitted nor placed.
 template <typename S, typename Shape>
 class ShapeBound
 {
 public:
-  ShapeBound(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh) : ShapeBound(fitted(shape, shape_in_mesh)) {}
-  /// From the shape's RS fitted in its own frame (placeShapeRS), for a shape queried many times.
+  ShapeBound(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh) : ShapeBound(fitted(shape), shape_in_mesh) {}
+  /// From the shape's RS fitted in its own frame (fcl::computeBV with the identity), for a shape queried many
+  /// times.
   ShapeBound(const RS<S>& bv_in_shape, const fcl::Transform3<S>& shape_in_mesh)
-    : ShapeBound(placeShapeRS(bv_in_shape, shape_in_mesh))
+    : bv_(bv_in_shape), moved_(shape_in_mesh.linear(), shape_in_mesh.translation(), bv_)
   {
   }
-  /// node.overlap(bv_), with bv_'s frame moved once per query.
+  /// node.overlap(bv_) with bv_ at shape_in_mesh.
   bool overlaps(const RS<S>& node) const { return detail::overlap(moved_, node, bv_, kDefaultOverlapTest); }
   /// Widens the test's rounding offsets by TriangleShapeLeaf::boundOffsets, so that it never prunes a triangle the
   /// leaf test reports.
-  void coverLeaves(S offsets)
-  {
-    moved_ = detail::BoxedFrame<S>(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_, offsets);
-  }
+  void coverLeaves(S offsets) { moved_.offsets += offsets; }
 
 private:
-  /// bv_in_mesh: the shape's RS in the mesh's frame.
-  explicit ShapeBound(const RS<S>& bv_in_mesh)
-    : bv_(bv_in_mesh), moved_(fcl::Matrix3<S>::Identity(), fcl::Vector3<S>::Zero(), bv_)
-  {
-  }
-  static RS<S> fitted(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh)
+  static RS<S> fitted(const Shape& shape)
   {
     RS<S> bv;
-    fcl::computeBV(shape, shape_in_mesh, bv);
+    fcl::computeBV(shape, fcl::Transform3<S>::Identity(), bv);
     return bv;
   }
 
@@ -303,10 +297,11 @@ public:
                          *this->result);
   }
 
+  using Leaf = TriangleShapeLeaf<Shape>;
   /// Held by value: a query that visits one or two nodes would otherwise spend a good part of its time in the
   /// allocator.
   std::optional<ShapeBound<S, Shape>> bound;
-  std::optional<TriangleShapeLeaf<Shape>> leaf;
+  std::optional<Leaf> leaf;
 };
 
 /// Sets up node for the mesh model1 at tf1 against the shape model2 at tf2; false unless model1 is a triangle
@@ -334,21 +329,44 @@ bool initialize(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& nod
 namespace detail {
 
 /// The descent policy of mesh-shape collision (descendDepthFirst): a leaf is tested against the shape's bound
-/// before the leaf test, as in FCL's recursion.
+/// before the leaf test, as in FCL's recursion, unless the leaf test opens with a cheaper rejection of its own
+/// (TriangleShapeLeaf::kRejectsCheaply: the triangle's extent along the shape's axes and normal). Child order as
+/// MeshCollisionDescent's: FCL's unless the request stops after a few contacts; then the child whose origin is
+/// nearer the shape's goes first.
 template <typename Node>
 class MeshShapeCollisionDescent : public MeshShapeDescent<Node>
 {
 public:
+  using typename MeshShapeDescent<Node>::Pair;
   using typename MeshShapeDescent<Node>::Visit;
-  using MeshShapeDescent<Node>::MeshShapeDescent;
+  using S = typename Node::S;
 
+  explicit MeshShapeCollisionDescent(Node& node)
+    : MeshShapeDescent<Node>(node), nearer_first_(visitsNearerFirst(node.request))
+  {
+    if (nearer_first_) shape_ = node.tf1.inverse(Eigen::Isometry) * node.tf2.translation();
+  }
   bool leafTest(const Visit& v)
   {
-    if (this->node_.Node::BVTesting(v.b1, 0)) return false;
+    if constexpr (!Node::Leaf::kRejectsCheaply)
+      if (this->node_.Node::BVTesting(v.b1, 0)) return false;
     this->node_.Node::leafTesting(v.b1, 0);
     return this->node_.request.isSatisfied(*this->node_.result);
   }
   bool nodeApart(const Visit& v) { return this->node_.Node::BVTesting(v.b1, 0); }
+  int children(const Visit& v, bool first, Pair* out) const
+  {
+    const int n = MeshShapeDescent<Node>::children(v, first, out);
+    const auto& model = *this->node_.model1;
+    if (nearer_first_ && (model.getBV(out[1].b1).bv.origin - shape_).squaredNorm() <
+                             (model.getBV(out[0].b1).bv.origin - shape_).squaredNorm())
+      std::swap(out[0], out[1]);
+    return n;
+  }
+
+private:
+  bool nearer_first_;
+  fcl::Vector3<S> shape_;  ///< the shape's origin in the mesh's frame, when nearer_first_
 };
 
 }  // namespace detail
@@ -363,12 +381,12 @@ void collideMeshShape(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver
 }
 
 /// Mesh-shape collision of a shape queried at many poses (a robot's link shapes, a planning scene's obstacles):
-/// bv_in_shape is its RS fitted once in its own frame (fcl::computeBV with the identity), placed per query
-/// rather than refitted. The mesh's root is tested against it before the traversal is set up: most shapes that
-/// pass a caller's cheaper culling (balls, boxes) are still apart from the root, and a query that visits one node
-/// should not pay the traversal's set-up. The root test covers the leaf test's tolerance, as the traversal's
-/// bound does, so it prunes nothing fcl_rs::collide would report. The answer is fcl_rs::collide's for the
-/// same request; result gets its contacts.
+/// bv_in_shape is its RS fitted once in its own frame (fcl::computeBV with the identity), moved into the mesh's
+/// frame per query (ShapeBound) rather than refitted. The mesh's root is tested against it before the traversal
+/// is set up: most shapes that pass a caller's cheaper culling (balls, boxes) are still apart from the root, and a
+/// query that visits one node should not pay the traversal's set-up. The root test covers the leaf test's
+/// tolerance, as the traversal's bound does, so it prunes nothing fcl_rs::collide would report. The answer is
+/// fcl_rs::collide's for the same request; result gets its contacts.
 template <typename Shape, typename NarrowPhaseSolver>
 bool collidePlacedShape(const fcl::BVHModel<RS<typename Shape::S>>& mesh, const fcl::Transform3<typename Shape::S>& tf_mesh,
                         const Shape& shape, const RS<typename Shape::S>& bv_in_shape,
