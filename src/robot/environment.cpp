@@ -253,6 +253,21 @@ std::optional<BodyHull<S>> shapeHull(const fcl::CollisionGeometry<S>& geometry)
       []() -> std::optional<BodyHull<S>> { return std::nullopt; });
 }
 
+/// The hull of a box (an octree's occupied cells: a hull bound against it is a lower bound on the distance to the
+/// cells, as against a mesh's vertices for the mesh).
+template <typename S>
+BodyHull<S> boxHull(const fcl::AABB<S>& box)
+{
+  const fcl::Vector3d center = box.center().template cast<double>();
+  std::vector<fcl::Vector3d> points = detail::boxCorners(0.5 * (box.max_ - box.min_).template cast<double>());
+  for (fcl::Vector3d& point : points) point += center;
+  BodyHull<S> hull;
+  hull.points = triangle_shape::HullPoints(std::move(points));
+  hull.center = box.center();
+  hull.reach = detail::hullReach(hull);
+  return hull;
+}
+
 template <typename BV>
 std::shared_ptr<fcl::CollisionGeometry<typename BV::S>> buildTree(const TriangleMesh<typename BV::S>& mesh)
 {
@@ -338,8 +353,8 @@ struct Environment<S>::Impl
     /// setPose keeps it), for the direct paths of linkHitsObstacle; unset otherwise.
     const fcl::BVHModel<RS<S>>* rs_mesh = nullptr;
     std::optional<RS<S>> shape_bv;
-    /// A box's, sphere's, capsule's, cylinder's or mesh's hull, which motion checks bound link distances with
-    /// (SelfCollision::hullDistanceBound).
+    /// A box's, sphere's, capsule's, cylinder's or mesh's hull, or the box of an octree's occupied cells (fit),
+    /// which motion checks bound link distances with (SelfCollision::hullDistanceBound).
     std::optional<BodyHull<S>> hull;
     /// Per link that no joint moves (Impl::fixed_pose): whether it touches the obstacle, decided when the obstacle
     /// is added, moved or refreshed, since no configuration changes the answer.
@@ -548,11 +563,13 @@ struct Environment<S>::Impl
       if (!cells)
       {
         o.sphere = WorldSphere<S>();
+        o.hull.reset();
         return;
       }
       o.box = *cells;
       o.body.center = cells->center();
       o.body.radius = (cells->max_ - o.body.center).norm();
+      o.hull = boxHull(*cells);
     }
     else
 #endif
