@@ -348,6 +348,8 @@ struct Environment<S>::Impl
     WorldSphere<S> sphere;  ///< at pose
     fcl::AABB<S> box;       ///< the geometry's box in its own frame (tighter than the ball for slabs such as tables;
                             ///< an octree's: its occupied cells')
+    fcl::AABB<S> world_box;  ///< box at pose, in the root frame's axes (placeCulling)
+    bool aligned = false;    ///< pose does not rotate, so world_box is box moved
     std::optional<Flat<S>> flat;  ///< a plane or halfspace, placed at pose (its sphere then holds everything)
     /// In an RS environment: the mesh's tree, or a shape's RS fitted once in its own frame (placed per query, so
     /// setPose keeps it), for the direct paths of linkHitsObstacle; unset otherwise.
@@ -581,7 +583,28 @@ struct Environment<S>::Impl
     }
     o.body.radius *= S(1 + 1e-6);
     o.body.elements.push_back({o.geometry.get(), Tf<S>::Identity()});
+    placeCulling(o);
+  }
+
+  /// The culling volumes of a fitted obstacle (not a plane or halfspace) at its pose: its ball, and the box around
+  /// its own box's placed corners, grown by the rounding of placing them (16 ulps of each corner's terms).
+  static void placeCulling(Obstacle& o)
+  {
     o.sphere = place(o.body, o.pose);
+    o.aligned = o.pose.linear() == fcl::Matrix3<S>::Identity();
+    fcl::Vector3<S> lo = fcl::Vector3<S>::Constant(std::numeric_limits<S>::infinity()), hi = -lo;
+    S terms = 0;
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const fcl::Vector3<S> local(corner & 1 ? o.box.max_[0] : o.box.min_[0], corner & 2 ? o.box.max_[1] : o.box.min_[1],
+                                  corner & 4 ? o.box.max_[2] : o.box.min_[2]);
+      const fcl::Vector3<S> placed = o.pose * local;
+      lo = lo.cwiseMin(placed);
+      hi = hi.cwiseMax(placed);
+      terms = std::max(terms, local.template lpNorm<1>());
+    }
+    const S pad = 16 * std::numeric_limits<S>::epsilon() * (terms + o.pose.translation().template lpNorm<1>());
+    o.world_box = fcl::AABB<S>(lo - fcl::Vector3<S>::Constant(pad), hi + fcl::Vector3<S>::Constant(pad));
   }
 
   void checkNewName(const std::string& name) const
@@ -596,8 +619,8 @@ struct Environment<S>::Impl
     for (int link : geometric_links) spheres[link] = place(links[link], poses[link]);
   }
 
-  /// The obstacles whose balls meet the box around every link ball (the robot's broad phase: one test per
-  /// obstacle, so hundreds of far obstacles cost little).
+  /// The obstacles whose world boxes and balls meet the box around every link ball (the robot's broad phase: one
+  /// test per obstacle, so hundreds of far obstacles cost little).
   void nearObstacles(const std::vector<WorldSphere<S>>& spheres, std::vector<int>& near) const
   {
     fcl::Vector3<S> lo = fcl::Vector3<S>::Constant(std::numeric_limits<S>::infinity()), hi = -lo;
@@ -615,9 +638,12 @@ struct Environment<S>::Impl
         near.push_back(int(i));
         continue;
       }
+      const fcl::AABB<S>& box = obstacles[i].world_box;
       const WorldSphere<S>& s = obstacles[i].sphere;
       const fcl::Vector3<S> outside = (lo - s.centre).cwiseMax(s.centre - hi).cwiseMax(S(0));
-      if (outside.squaredNorm() <= s.reach * s.reach) near.push_back(int(i));
+      if ((box.min_.array() <= hi.array()).all() && (box.max_.array() >= lo.array()).all() &&
+          outside.squaredNorm() <= s.reach * s.reach)
+        near.push_back(int(i));
     }
   }
 
@@ -625,9 +651,7 @@ struct Environment<S>::Impl
   /// frame): tighter than the balls' for slabs such as tables and for an octree's occupied cells.
   static S boxGap(const WorldSphere<S>& ball, const Obstacle& o)
   {
-    const fcl::Vector3<S> c = o.from_world * ball.centre;
-    const fcl::Vector3<S> outside = (o.box.min_ - c).cwiseMax(c - o.box.max_).cwiseMax(S(0));
-    return outside.norm() - ball.reach * S(1 + 1e-5);
+    return std::sqrt(squaredOutside(o.box, o.from_world * ball.centre)) - ball.reach * S(1 + 1e-5);
   }
 
   /// A lower bound on the distance between a link's ball and an obstacle: the balls' gap or the gap to the
@@ -642,11 +666,20 @@ struct Environment<S>::Impl
     return std::max(sphereGap(ball, o.sphere), boxGap(ball, o));
   }
 
-  /// Whether the link's ball may touch the obstacle (the cheap tests first).
+  /// Whether the link's ball may touch the obstacle: its world box (no rotation, no square root), the balls (a
+  /// mesh's ball holds its vertices, not its box), then, for an obstacle whose pose rotates, its own box.
   static bool mayTouch(const WorldSphere<S>& ball, const Obstacle& o)
   {
     if (o.flat) return obstacleGap(ball, o) <= 0;
-    return !spheresApart(ball, o.sphere) && boxGap(ball, o) <= 0;
+    const S reach = ball.reach * S(1 + 1e-5);  // boxGap's pad
+    if (squaredOutside(o.world_box, ball.centre) > reach * reach || spheresApart(ball, o.sphere)) return false;
+    return o.aligned || squaredOutside(o.box, o.from_world * ball.centre) <= reach * reach;
+  }
+
+  /// The squared distance from a point to a box (0 inside).
+  static S squaredOutside(const fcl::AABB<S>& box, const fcl::Vector3<S>& point)
+  {
+    return (box.min_ - point).cwiseMax(point - box.max_).cwiseMax(S(0)).squaredNorm();
   }
 
   /// The link's extreme heights over a plane or halfspace, exact: a linear function's extremes over a mesh are at
@@ -1158,7 +1191,7 @@ void Environment<S>::setPose(const std::string& name, const fcl::Transform3<S>& 
   o.pose = pose;
   o.from_world = pose.inverse(Eigen::Isometry);
   o.flat = flatAt(*o.geometry, pose);
-  if (!o.flat) o.sphere = place(o.body, pose);
+  if (!o.flat && !o.body.elements.empty()) Impl::placeCulling(o);
   impl_->touchFixedLinks(o);
 }
 
