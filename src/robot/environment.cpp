@@ -25,6 +25,7 @@
 #include "../scalars.h"
 #include "../validated_entries.h"
 #include "body_hulls.h"
+#include "world_balls.h"
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/collide.h"
@@ -64,34 +65,15 @@ struct Body
   S radius = 0;
 };
 
-/// A body's ball placed in the root frame, its radius grown by a rounding pad (as SelfCollision's spheres: 1e-5
-/// of the radius and of the centre's distance from the root), so that the gap between two never exceeds the
-/// gap between their geometries.
-template <typename S>
-struct WorldSphere
-{
-  fcl::Vector3<S> centre = fcl::Vector3<S>::Zero();
-  S reach = 0;
-};
+using detail::sphereGap;
+using detail::spheresApart;
+using detail::WorldSphere;
 
+/// A body's ball placed at its pose (detail::placeBall).
 template <typename S>
 WorldSphere<S> place(const Body<S>& body, const Tf<S>& pose)
 {
-  const fcl::Vector3<S> centre = pose * body.center;
-  return {centre, body.radius + S(1e-5) * (body.radius + centre.norm())};
-}
-
-template <typename S>
-S sphereGap(const WorldSphere<S>& a, const WorldSphere<S>& b)
-{
-  return (a.centre - b.centre).norm() - a.reach - b.reach;
-}
-
-template <typename S>
-bool spheresApart(const WorldSphere<S>& a, const WorldSphere<S>& b)
-{
-  const S reach = a.reach + b.reach;
-  return (a.centre - b.centre).squaredNorm() > reach * reach;
+  return detail::placeBall(pose, body.center, body.radius);
 }
 
 /// Whether any element of a touches any element of b (FCL's and fcl_rs's exact tests, first contact): link pairs

@@ -28,6 +28,7 @@
 #include "../scalars.h"
 #include "../validated_entries.h"
 #include "body_hulls.h"
+#include "world_balls.h"
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/distance.h"
@@ -412,12 +413,8 @@ struct SelfCollision<S>::Impl
     std::vector<Element> elements;  ///< the mesh first, then the shapes
   };
 
-  /// A link's bounding sphere in the root frame, its radius grown by a rounding pad.
-  struct WorldSphere
-  {
-    fcl::Vector3<S> centre;
-    S reach;
-  };
+  /// A link's bounding sphere in the root frame (detail::placeBall).
+  using WorldSphere = detail::WorldSphere<S>;
   /// What a check computes once per configuration: the links' spheres at the link poses (a link takes part in
   /// several pairs). The poses are the caller's, one per link, and outlive the check.
   struct Placement
@@ -428,33 +425,24 @@ struct SelfCollision<S>::Impl
 
   Impl(const RobotModel& robot, BVType bv_type) : bv(bv_type), kinematics(robot) {}
 
-  /// Fills p.spheres from p.poses for the links of the pair list (the others' are left as they were). The pad,
-  /// 1e-5 of the radius and of the centre's distance from the root, covers the rounding of moving the centres and
-  /// of comparing their distance, so the gap between two spheres is never more than the geometries'.
+  /// Fills p.spheres from p.poses for the links of the pair list (the others' are left as they were).
   void placeSpheres(Placement& p) const
   {
     p.spheres.resize(links.size());
     for (int i : paired_links) p.spheres[i] = placeSphere(p.poses[i], links[i].center, links[i].radius);
   }
 
-  /// A ball of the link frame placed at the link's pose, padded as placeSpheres says.
   static WorldSphere placeSphere(const Tf<S>& pose, const fcl::Vector3<S>& center, S radius)
   {
-    const fcl::Vector3<S> centre = pose * center;
-    return {centre, radius + S(1e-5) * (radius + centre.norm())};
+    return detail::placeBall(pose, center, radius);
   }
 
-  /// Distance between two padded balls: never more than the geometries' they hold.
-  static S sphereGap(const WorldSphere& a, const WorldSphere& b)
-  {
-    return (a.centre - b.centre).norm() - a.reach - b.reach;
-  }
+  static S sphereGap(const WorldSphere& a, const WorldSphere& b) { return detail::sphereGap(a, b); }
 
   /// sphereGap(p, a, b) > 0, without the square root.
   static bool spheresApart(const Placement& p, int a, int b)
   {
-    const S reach = p.spheres[a].reach + p.spheres[b].reach;
-    return (p.spheres[a].centre - p.spheres[b].centre).squaredNorm() > reach * reach;
+    return detail::spheresApart(p.spheres[a], p.spheres[b]);
   }
 
   /// Whether the links' RS volumes (Link::bound) may overlap at their poses.
