@@ -347,6 +347,37 @@ TYPED_TEST(Kinematic, RandomConfigurationsRespectLimits)
   }
 }
 
+/// ulps of `exact`'s double neighbourhood by which `value` misses it.
+double ulpsFrom(double value, long double exact)
+{
+  const double e = double(exact);
+  const double ulp = std::nextafter(std::abs(e), HUGE_VAL) - std::abs(e);
+  return double(std::abs((long double)value - exact)) / ulp;
+}
+
+TEST(RobotKinematics, SineAndCosineWithinTwoUlps)
+{
+  auto rng = test::seededRng("SineAndCosineWithinTwoUlps");
+  std::uniform_real_distribution<double> joint(-20, 20), tiny(-1e-6, 1e-6), far(-1e7, 1e7);
+  double worst = 0;
+  for (int i = 0; i < 200000; ++i)
+  {
+    const double x = i % 4 == 0 ? tiny(rng) : i % 50 == 1 ? far(rng) : joint(rng);
+    double s, c;
+    detail::sinCos(x, s, c);
+    worst = std::max({worst, ulpsFrom(s, sinl((long double)x)), ulpsFrom(c, cosl((long double)x))});
+  }
+  EXPECT_LE(worst, 2.0);
+  // The quadrants' signs and exact values at the multiples of pi/2 that doubles hold.
+  for (int k = -8; k <= 8; ++k)
+  {
+    double s, c;
+    detail::sinCos(k * M_PI_2, s, c);
+    EXPECT_NEAR(s, std::sin(k * M_PI_2), 1e-15) << k;
+    EXPECT_NEAR(c, std::cos(k * M_PI_2), 1e-15) << k;
+  }
+}
+
 TEST(RobotKinematics, PandaMimicFingerAndKnownPose)
 {
   const RobotModel* panda = sharedRobot("panda");

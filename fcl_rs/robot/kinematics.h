@@ -14,6 +14,49 @@
 #include "fcl_rs/robot/robot_model.h"
 
 namespace fcl_rs {
+namespace detail {
+
+/// Sine and cosine of x within 2 ulps, inlined: a revolute joint's sine and cosine are most of a planner's
+/// kinematics, and libm's call costs about twice as much. x is reduced by the multiple j of pi/2 nearest to it
+/// (pi/2 in three parts, the first of 33 bits, so j * part is exact while |j| < 2^20) to [-pi/4, pi/4], where two
+/// minimax polynomials (Cephes' coefficients) hold; beyond, libm.
+inline void sinCos(double x, double& s, double& c)
+{
+  constexpr double kTwoOverPi = 0.63661977236758134308;
+  constexpr double kPart1 = 1.57079632673412561417e+00, kPart2 = 6.07710050630396597660e-11,
+                   kPart3 = 2.02226624879595063154e-21;
+  if (!(std::abs(x) < 1e6))
+  {
+    s = std::sin(x);
+    c = std::cos(x);
+    return;
+  }
+  const double j = std::nearbyint(x * kTwoOverPi);
+  const double y = ((x - j * kPart1) - j * kPart2) - j * kPart3;
+  const double z = y * y;
+  const double sine =
+      y + y * z *
+              (-1.66666666666666307295e-1 +
+               z * (8.33333333332211858878e-3 +
+                    z * (-1.98412698295895385996e-4 +
+                         z * (2.75573136213857245213e-6 + z * (-2.50507477628578072866e-8 + z * 1.58962301576546568060e-10)))));
+  const double cosine =
+      1.0 - 0.5 * z +
+      z * z *
+          (4.16666666666665929218e-2 +
+           z * (-1.38888888888730564116e-3 +
+                z * (2.48015872888517045348e-5 +
+                     z * (-2.75573141792967388112e-7 + z * (2.08757008419747316778e-9 + z * -1.13585365213876817300e-11)))));
+  switch (static_cast<long long>(j) & 3)
+  {
+    case 0: s = sine, c = cosine; break;
+    case 1: s = cosine, c = -sine; break;
+    case 2: s = -sine, c = -cosine; break;
+    default: s = -cosine, c = sine; break;
+  }
+}
+
+}  // namespace detail
 
 /// Link poses from joint positions. A configuration q holds one value per RobotModel::variable_joints entry
 /// (radians or metres); mimic joints follow their leader. Copies what it needs: the model may be destroyed.
@@ -69,7 +112,9 @@ public:
       const S value = j.variable >= 0 ? j.multiplier * q[j.variable] + j.offset : S(0);
       if (j.variable >= 0 && j.type != JointType::kPrismatic)
       {
-        const fcl::Matrix3<S> linear = j.linear + std::cos(value) * j.cos_part + std::sin(value) * j.sin_part;
+        double sine, cosine;
+        detail::sinCos(double(value), sine, cosine);
+        const fcl::Matrix3<S> linear = j.linear + S(cosine) * j.cos_part + S(sine) * j.sin_part;
         pose.linear().noalias() = parent.linear() * linear;
       }
       else
