@@ -61,10 +61,9 @@ double threadSeconds()
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
-Eigen::VectorXd toVector(const ob::State* state, int dof)
+Eigen::Map<const Eigen::VectorXd> toVector(const ob::State* state, int dof)
 {
-  const double* v = state->as<ob::RealVectorStateSpace::StateType>()->values;
-  return Eigen::Map<const Eigen::VectorXd>(v, dof);
+  return {state->as<ob::RealVectorStateSpace::StateType>()->values, dof};
 }
 
 /// Number of calls of one kind of check and, when `timed`, their time (two clock reads per call, which a planner
@@ -88,7 +87,9 @@ public:
   }
   bool isValid(const ob::State* state) const override
   {
-    const Eigen::VectorXd q = toVector(state, dof_);
+    // Per thread and reused: a planner checks millions of states, and an allocation per check is not free.
+    static thread_local Eigen::VectorXd q;
+    q = toVector(state, dof_);
     const double start = tally_.timed ? threadSeconds() : 0;
     const bool valid = !env_.query(q).colliding;
     if (tally_.timed) tally_.seconds += threadSeconds() - start;
