@@ -31,7 +31,10 @@ inline void sinCos(double x, double& s, double& c)
     c = std::cos(x);
     return;
   }
-  const double j = std::nearbyint(x * kTwoOverPi);
+  // Rounded by conversion (std::nearbyint is a libm call without SSE4.1): any nearest multiple serves.
+  const double t = x * kTwoOverPi;
+  const long long n = static_cast<long long>(t < 0 ? t - 0.5 : t + 0.5);
+  const double j = double(n);
   const double y = ((x - j * kPart1) - j * kPart2) - j * kPart3;
   const double z = y * y;
   const double sine =
@@ -47,7 +50,7 @@ inline void sinCos(double x, double& s, double& c)
            z * (-1.38888888888730564116e-3 +
                 z * (2.48015872888517045348e-5 +
                      z * (-2.75573141792967388112e-7 + z * (2.08757008419747316778e-9 + z * -1.13585365213876817300e-11)))));
-  switch (static_cast<long long>(j) & 3)
+  switch (n & 3)
   {
     case 0: s = sine, c = cosine; break;
     case 1: s = cosine, c = -sine; break;
