@@ -163,6 +163,11 @@ public:
   S hullDistanceBound(int link, const fcl::Transform3<S>& pose, const BodyHull<S>& body,
                       const fcl::Transform3<S>& body_pose, S enough) const;
 
+  /// A lower bound on n . x over the points x of the link's geometry at `pose` (n: a unit vector): the lowest of its
+  /// elements' hull points along n, less the hulls' radii and a rounding margin (as hullDistanceBound's). With a
+  /// box's face normal it bounds the link's distance to the box from below at the cost of a support point, not GJK.
+  S lowestAlong(int link, const fcl::Transform3<S>& pose, const fcl::Vector3<S>& n) const;
+
   /// The link's collision elements, for queries against other geometry (empty for a link without geometry).
   /// Throws std::invalid_argument for KDOP18, whose trees live in the world frame.
   std::vector<LinkElement<S>> linkElements(int link) const;

@@ -875,6 +875,25 @@ struct Environment<S>::Impl
     return S(m * (1 + 1e-6)) + pad;
   }
 
+  /// A lower bound on the distance between the link at s and the obstacle: the link's separation from the
+  /// obstacle's box (its own frame's, which holds the geometry) along the normal of the face its ball's centre is
+  /// farthest outside of.
+  S faceSeparation(int link, const Sample& s, const Obstacle& o) const
+  {
+    const fcl::Vector3<S> c = o.from_world * s.spheres[link].centre;
+    const fcl::Vector3<S> below = o.box.min_ - c, above = c - o.box.max_;
+    int k;
+    const S out = below.cwiseMax(above).maxCoeff(&k);
+    const bool up = above[k] == out;
+    // Along n = the face's outward normal, the box reaches n . pose.translation() + its face's offset.
+    const fcl::Vector3<S> n = up ? fcl::Vector3<S>(o.pose.linear().col(k)) : fcl::Vector3<S>(-o.pose.linear().col(k));
+    const S face = up ? o.box.max_[k] : -o.box.min_[k];
+    // The box's side, rounded in S as the link's (SelfCollision::lowestAlong's margin).
+    const S margin = S(1024) * std::numeric_limits<S>::epsilon() *
+                     (o.pose.translation().template lpNorm<1>() + o.box.min_.norm() + o.box.max_.norm());
+    return self.lowestAlong(link, s.poses[link], n) - (n.dot(o.pose.translation()) + face) - margin;
+  }
+
   /// A lower bound on the pair's distance at s, as cheap as reaching `enough` allows: SelfCollision's search for
   /// self pairs; for obstacles the hulls' bound, then (obstacles without a hull) the distance with
   /// kMotionDistanceError started at enough. Without `measure`, bodies with hulls are not measured: the hulls'
@@ -885,7 +904,11 @@ struct Environment<S>::Impl
     const Obstacle& o = obstacles[p.obstacle];
     if (o.hull)
     {
-      const S d = self.hullDistanceBound(p.link, s.poses[p.link], *o.hull, o.pose, enough);
+      // Most pairs that need more than the balls' gap are certified by the link's separation from the obstacle's
+      // box along one of its faces, one support point where GJK takes several.
+      const S apart = faceSeparation(p.link, s, o);
+      if (!(apart < enough)) return apart;
+      const S d = std::max(apart, self.hullDistanceBound(p.link, s.poses[p.link], *o.hull, o.pose, enough));
       if (!(d < enough) || !measure) return d;
     }
     const S err = S(kMotionDistanceError);

@@ -932,6 +932,33 @@ S SelfCollision<S>::hullDistanceBound(int link, const fcl::Transform3<S>& pose, 
 }
 
 template <typename S>
+S SelfCollision<S>::lowestAlong(int link, const fcl::Transform3<S>& pose, const fcl::Vector3<S>& n) const
+{
+  if (link < 0 || link >= int(impl_->links.size()))
+    throw std::invalid_argument("fcl_rs::SelfCollision::lowestAlong: link " + std::to_string(link) + " out of range [0, " +
+                                std::to_string(impl_->links.size()) + ")");
+  const Eigen::Isometry3d p = pose.template cast<double>();
+  const fcl::Vector3d u = n.template cast<double>();
+  const fcl::Vector3d d = p.linear().transpose() * u;  // n in the link frame
+  const double offset = u.dot(p.translation());
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const typename Impl::Element& e : impl_->links[link].elements)
+  {
+    const triangle_shape::HullPoints& points = e.hull.points;
+    // The walk's point, certified the lowest by the clusters' scan (as GJK's last support point is).
+    const std::size_t i =
+        points.walks() ? points.lowestBelow(d, points.walk(d, triangle_shape::HullPoints::kNoPoint)) : points.lowest(d);
+    // hullDistance's margin, for one hull.
+    const double margin =
+        1024 * double(std::numeric_limits<S>::epsilon()) * (p.translation().template lpNorm<1>() + e.hull.reach);
+    lowest = std::min(lowest, points.points()[i].dot(d) + offset - e.hull.radius - margin);
+  }
+  // Rounded down to S.
+  const S rounded = S(lowest);
+  return double(rounded) > lowest ? std::nextafter(rounded, -std::numeric_limits<S>::infinity()) : rounded;
+}
+
+template <typename S>
 std::vector<LinkElement<S>> SelfCollision<S>::linkElements(int link) const
 {
   if (link < 0 || link >= int(impl_->links.size()))
