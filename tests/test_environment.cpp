@@ -603,6 +603,83 @@ TYPED_TEST(EnvironmentTest, MotionChecksCatchAGrazingObstacleBetweenSamples)
   EXPECT_GT(missed_by_sampling, 0);
 }
 
+/// A thin slab, turned at random, touching the hand's surface halfway between two samples: motion checks bound a
+/// link's distance to an obstacle's box by its separation along one of the box's face normals
+/// (SelfCollision::lowestAlong), which must not clear a slab the hand grazes (whatever face the link is nearest).
+TYPED_TEST(EnvironmentTest, MotionChecksCatchAGrazingTurnedSlabBetweenSamples)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  auto rng = test::seededRng("MotionChecksCatchAGrazingTurnedSlabBetweenSamples/" + test::scalarName<S>());
+  Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
+  HandSurfacePoints<S> segment(env);
+  const fcl::VectorX<S>& from = segment.from;
+  const fcl::VectorX<S>& to = segment.to;
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  int checked = 0;
+  for (int i = 0; i < 40; ++i)
+  {
+    if (!segment.draw(rng)) continue;
+    const S t = S(0.505);
+    const fcl::Vector3<S> p = segment.at(t, rng);
+    // A slab 0.04 wide and 1e-4 thin, the surface point just inside one of its corners.
+    fcl::Transform3<S> pose = fcl::Transform3<S>::Identity();
+    pose.linear() = (Eigen::AngleAxis<S>(S(angle(rng)), fcl::Vector3<S>::UnitZ()) *
+                     Eigen::AngleAxis<S>(S(angle(rng)), fcl::Vector3<S>::UnitX()))
+                        .toRotationMatrix();
+    const fcl::Vector3<S> half(S(0.02), S(0.02), S(5e-5));
+    std::uniform_int_distribution<int> sign(0, 1);
+    const fcl::Vector3<S> corner(sign(rng) ? half.x() : -half.x(), sign(rng) ? half.y() : -half.y(),
+                                 sign(rng) ? half.z() : -half.z());
+    pose.translation() = p - pose.linear() * S(0.999) * corner;
+    env.addShape("slab", std::make_shared<fcl::Box<S>>(S(2) * half), pose);
+    SCOPED_TRACE(::testing::Message() << "segment " << i << " from " << from.transpose() << " to " << to.transpose());
+    if (env.query(from).colliding || env.query(to).colliding || !env.query(along(from, to, t)).colliding)
+    {
+      env.remove("slab");
+      continue;
+    }
+    ++checked;
+    for (bool earliest : {true, false})
+    {
+      MotionRequest<S> request;
+      request.earliest = earliest;
+      const MotionResult<S> motion = env.checkMotion(from, to, request);
+      EXPECT_TRUE(motion.colliding);
+      EXPECT_LE(motion.free_until, t);
+    }
+    env.remove("slab");
+  }
+  std::cout << "[slab] " << checked << " slabs grazed\n";
+  EXPECT_GT(checked, 5);
+}
+
+/// SelfCollision::lowestAlong bounds every vertex of the link's mesh along the direction from below, and closely.
+TYPED_TEST(EnvironmentTest, LowestAlongBoundsEveryVertex)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  const RobotModel& robot = *panda();
+  const SelfCollision<S> self(robot, BVType::kRS, pandaSrdf());
+  auto rng = test::seededRng("LowestAlongBoundsEveryVertex/" + test::scalarName<S>());
+  std::normal_distribution<double> normal;
+  for (int k = 0; k < 20; ++k)
+  {
+    const std::vector<fcl::Transform3<S>> poses = self.kinematics().linkPoses(self.kinematics().randomConfiguration(rng));
+    for (int link = 0; link < int(robot.links.size()); ++link)
+    {
+      if (robot.links[link].mesh.vertices.empty()) continue;
+      const fcl::Vector3<S> n = fcl::Vector3d(normal(rng), normal(rng), normal(rng)).normalized().cast<S>();
+      double lowest = std::numeric_limits<double>::infinity();
+      for (const fcl::Vector3d& v : robot.links[link].mesh.vertices)
+        lowest = std::min(lowest, double(n.dot(poses[link] * v.cast<S>())));
+      const double bound = double(self.lowestAlong(link, poses[link], n));
+      EXPECT_LE(bound, lowest) << robot.links[link].name;
+      EXPECT_GT(bound, lowest - (std::is_same_v<S, float> ? 1e-3 : 1e-9)) << robot.links[link].name;
+    }
+  }
+}
+
 /// Without earliest, a motion check takes coarse intervals first, so it may certify the part of a segment after a
 /// collision before the part before it: free_until must still be where the certified intervals from the start stop.
 /// A small box on the hand's surface at t = 0.3 of free segments: the collision lies early, the rest is free.

@@ -269,7 +269,7 @@ struct DifferencePoint
 /// difference with the closest point of each simplex found by closestOnTriangle. supportOf(d) is the difference's
 /// point lowest along d (A's lowest and B's highest, a DifferencePoint); the first point is supportOf(start).
 /// Stops when the pair is certified farther apart than `apart`, when it is within `touch` (meeting), or when the
-/// lower bound is within kIterativeRelativeGap of the distance reached. lower: the certified lower bound reached.
+/// lower bound is within relative_gap of the distance reached. lower: the certified lower bound reached.
 ///
 /// With `exactSupportOf` (not nullptr), supportOf may return a point of the difference that is not its lowest
 /// (a walk along a surface's edges): such a point moves the simplex but bounds nothing. Where GJK would stop on
@@ -277,7 +277,7 @@ struct DifferencePoint
 /// lower, so GJK goes on from there.
 template <typename SupportOf, typename ExactSupportOf = std::nullptr_t>
 Closest gjk(const SupportOf& supportOf, const Vec& start, double touch, double apart, double& lower,
-            const ExactSupportOf& exactSupportOf = nullptr)
+            const ExactSupportOf& exactSupportOf = nullptr, double relative_gap = kIterativeRelativeGap)
 {
   constexpr bool kCertifies = !std::is_same_v<ExactSupportOf, std::nullptr_t>;
   using Point = DifferencePoint;
@@ -304,7 +304,7 @@ Closest gjk(const SupportOf& supportOf, const Vec& start, double touch, double a
     if (!(vv > touch * touch)) return lower = 0, finish();
     const double norm = std::sqrt(vv);
     Point p = supportOf(v);
-    const auto stops = [&](double bound) { return bound > apart || norm - bound <= kIterativeRelativeGap * norm; };
+    const auto stops = [&](double bound) { return bound > apart || norm - bound <= relative_gap * norm; };
     const auto inSimplex = [&](const Point& q) {
       for (int i = 0; i < size; ++i)
         if (simplex[i].w == q.w) return true;
@@ -544,11 +544,13 @@ private:
 
 /// A lower bound on the distance between the convex hulls of points a (posed by pa) and points b (posed by pb),
 /// each at least one point: gjk's certified bound, from `start` (roughly from b towards a), stopped once it
-/// exceeds `enough` (a caller that only asks whether the hulls are that far apart needs no more). Exact but for
-/// rounding, a few ulps of the points' and poses' scale. direction: from the closest point reached on a's hull to
+/// exceeds `enough` (a caller that only asks whether the hulls are that far apart needs no more) or once it is
+/// within relative_gap of the distance reached. With the default gap exact but for rounding, a few ulps of the
+/// points' and poses' scale. direction: from the closest point reached on a's hull to
 /// b's (zero when the hulls meet), the hulls' gap direction once GJK has converged.
 inline double hullsLowerBound(const HullPoints& a, const Eigen::Isometry3d& pa, const HullPoints& b,
-                              const Eigen::Isometry3d& pb, const Vec& start, double enough, Vec* direction = nullptr)
+                              const Eigen::Isometry3d& pb, const Vec& start, double enough, Vec* direction = nullptr,
+                              double relative_gap = kIterativeRelativeGap)
 {
   const Eigen::Matrix3d ra = pa.linear().transpose(), rb = pb.linear().transpose();
   const auto differencePoint = [&](std::size_t i, std::size_t j) {
@@ -561,7 +563,7 @@ inline double hullsLowerBound(const HullPoints& a, const Eigen::Isometry3d& pa, 
   double lower = 0;
   Closest reached;
   if (!a.walks() && !b.walks())
-    reached = gjk(lowestPoint, start, 0, enough, lower);
+    reached = gjk(lowestPoint, start, 0, enough, lower, nullptr, relative_gap);
   else
   {
     // Each walk goes on from where the previous support point of its hull was.
@@ -576,7 +578,7 @@ inline double hullsLowerBound(const HullPoints& a, const Eigen::Isometry3d& pa, 
       at_b = b.lowestBelow(rb * Vec(-d), at_b);
       return differencePoint(at_a, at_b);
     };
-    reached = gjk(walkedPoint, start, 0, enough, lower, scannedPoint);
+    reached = gjk(walkedPoint, start, 0, enough, lower, scannedPoint, relative_gap);
   }
   if (direction) *direction = reached.on_shape - reached.on_triangle;
   return lower;

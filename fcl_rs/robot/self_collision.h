@@ -151,17 +151,22 @@ public:
   /// A lower bound on the distance between the links of pairs()[pair] at the poses (as queryPoses takes them), as
   /// cheap as `enough` allows (for motion checks, fcl_rs/robot/environment.h): the minimum-distance search on that
   /// pair alone, started at `enough`, so each bound stops it once it reaches `enough`. Below `enough` the answer is
-  /// the distance as minimum_distance measures it; without `measure`, the distance of the elements' hulls (for
-  /// convex elements, Panda-like meshes and the URDF shapes, the distance less a rounding margin; for others
-  /// less). 0 or less for touching links. Thread-safe as query; throws
+  /// the distance as minimum_distance measures it; without `measure`, GJK's bound on the distance of the elements'
+  /// hulls, stopped within 5 % of it (for convex elements, Panda-like meshes and the URDF shapes, at least 95 % of
+  /// the distance less a rounding margin; for others less). 0 or less for touching links. Thread-safe as query; throws
   /// std::invalid_argument for KDOP18 and OBB (as query with minimum_distance) and for a pair or poses out of range.
   S pairDistanceBound(const std::vector<fcl::Transform3<S>>& poses, int pair, S enough, bool measure) const;
 
   /// A lower bound on the distance between the link at `pose` and a body whose hull is `body` at `body_pose`: the
-  /// smallest of GJK's bounds between each element's hull and the body's (as pairDistanceBound bounds elements),
-  /// each stopped once it reaches `enough`.
+  /// smallest of GJK's bounds between each element's hull and the body's (as pairDistanceBound bounds elements
+  /// without measuring), each stopped once it reaches `enough` or is within 5 % of the hulls' distance.
   S hullDistanceBound(int link, const fcl::Transform3<S>& pose, const BodyHull<S>& body,
                       const fcl::Transform3<S>& body_pose, S enough) const;
+
+  /// A lower bound on n . x over the points x of the link's geometry at `pose` (n: a unit vector): the lowest of its
+  /// elements' hull points along n, less the hulls' radii and a rounding margin (as hullDistanceBound's). With a
+  /// box's face normal it bounds the link's distance to the box from below at the cost of a support point, not GJK.
+  S lowestAlong(int link, const fcl::Transform3<S>& pose, const fcl::Vector3<S>& n) const;
 
   /// The link's collision elements, for queries against other geometry (empty for a link without geometry).
   /// Throws std::invalid_argument for KDOP18, whose trees live in the world frame.

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <deque>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -363,13 +362,46 @@ struct Environment<S>::Impl
     std::vector<Tf<S>> poses;
     std::vector<WorldSphere<S>> spheres;
     std::vector<typename LinkSweeps<S>::Terms> terms;
+    bool has_terms = false;
     std::vector<S> bound;
     std::vector<S> asked;
     bool colliding = false;
   };
 
+  /// An interval of a motion check: its end samples and its pairs, active[begin, end) of the check's Scratch.
+  struct Interval
+  {
+    int a, b;
+    std::size_t begin, end;
+  };
+
+  /// A pair whose motion an interval's end bounds do not cover (segment).
+  struct Uncovered
+  {
+    S covered;  ///< the ends' bounds over the motion
+    int pair;
+    S motion;
+  };
+
+  /// What a motion check keeps between its steps, per thread and reused by the next check (whose vectors keep
+  /// their capacity), so that checks in a planner's loop allocate nothing once warm.
+  struct Scratch
+  {
+    std::vector<MotionPair> pairs;
+    std::vector<Sample> samples;  ///< samples[0, used) are the check's
+    std::size_t used = 0;
+    std::vector<Interval> waiting;
+    std::size_t head = 0;  ///< without earliest, waiting is a queue from here
+    std::vector<int> active;  ///< the intervals' pair lists, back to back
+    std::vector<int> remaining;
+    std::vector<Uncovered> uncovered;
+    std::vector<std::pair<S, S>> certified;
+    fcl::VectorX<S> q;
+  };
+
   Impl(const RobotModel& robot, BVType bv_type, const std::vector<DisabledCollision>& disabled)
-    : bv(bv_type), self(robot, bv_type, disabled), sweeps(makeSweeps(robot, self))
+    : bv(bv_type), self(robot, bv_type, disabled), sweeps(makeSweeps(robot, self)),
+      self_motion_pairs(selfMotionPairs(self, sweeps))
   {
     if (bv == BVType::kKDOP18)
       throw std::invalid_argument("fcl_rs::Environment: KDOP18 trees are refitted in place per check, so they cannot "
@@ -814,7 +846,17 @@ struct Environment<S>::Impl
 
   // ---- motion checks ----
 
-  std::vector<MotionPair> motionPairs() const
+  /// The pairs a motion check certifies, into `pairs`: the self pairs (made once, selfMotionPairs), then the link x
+  /// obstacle pairs.
+  void motionPairs(std::vector<MotionPair>& pairs) const
+  {
+    pairs = self_motion_pairs;
+    for (int link : geometric_links)
+      for (std::size_t o = 0; o < obstacles.size(); ++o)
+        if (!obstacles[o].body.elements.empty()) pairs.push_back({link, -1, int(o), -1, sweeps.depth(link), 0});
+  }
+
+  static std::vector<MotionPair> selfMotionPairs(const SelfCollision<S>& self, const LinkSweeps<S>& sweeps)
   {
     std::vector<MotionPair> pairs;
     for (std::size_t i = 0; i < self.pairs().size(); ++i)
@@ -823,26 +865,23 @@ struct Environment<S>::Impl
       pairs.push_back({p.first, p.second, -1, int(i), sweeps.depthBelow(p.first, p.second),
                        sweeps.depthBelow(p.second, p.first)});
     }
-    for (int link : geometric_links)
-      for (std::size_t o = 0; o < obstacles.size(); ++o)
-        if (!obstacles[o].body.elements.empty()) pairs.push_back({link, -1, int(o), -1, sweeps.depth(link), 0});
     return pairs;
   }
 
-  /// The configuration at t, the bound of each pair in `active` its cheap gap (see gap); no other pair's bound is
-  /// read there.
-  Sample sampleAt(const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, S t, const std::vector<MotionPair>& pairs,
-                  const std::vector<int>& active) const
+  /// Sets s to the configuration at t, the bound of each pair in active[begin, end) its cheap gap (see gap); no
+  /// other pair's bound is read there. q: scratch.
+  void sampleAt(Sample& s, const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, S t,
+                const std::vector<MotionPair>& pairs, const int* begin, const int* end, fcl::VectorX<S>& q) const
   {
-    Sample s;
     s.t = t;
-    const fcl::VectorX<S> q = from + t * (to - from);
+    q = from + t * (to - from);
     self.kinematics().linkPoses(q, s.poses);
     placeLinks(s.poses, s.spheres);
+    s.has_terms = false;
+    s.colliding = false;
     s.bound.resize(pairs.size());
-    for (int i : active) s.bound[i] = gap(s, pairs[i]);
+    for (const int* i = begin; i != end; ++i) s.bound[*i] = gap(s, pairs[*i]);
     s.asked.assign(pairs.size(), 0);
-    return s;
   }
 
   /// A lower bound on the pair's distance: the balls' gap, or for an obstacle the gap between the link's ball and
@@ -858,10 +897,33 @@ struct Environment<S>::Impl
   /// by `pad` for rounding.
   S moved(Sample& s, const fcl::VectorX<S>& step, const MotionPair& p, S dt, S pad) const
   {
-    if (s.terms.empty()) sweeps.terms(s.poses, step, s.terms);
+    if (!s.has_terms)
+    {
+      sweeps.terms(s.poses, step, s.terms);
+      s.has_terms = true;
+    }
     double m = sweeps.sweep(s.terms, p.link, p.depth, double(dt));
     if (p.other_link >= 0) m += sweeps.sweep(s.terms, p.other_link, p.other_depth, double(dt));
     return S(m * (1 + 1e-6)) + pad;
+  }
+
+  /// A lower bound on the distance between the link at s and the obstacle: the link's separation from the
+  /// obstacle's box (its own frame's, which holds the geometry) along the normal of the face its ball's centre is
+  /// farthest outside of.
+  S faceSeparation(int link, const Sample& s, const Obstacle& o) const
+  {
+    const fcl::Vector3<S> c = o.from_world * s.spheres[link].centre;
+    const fcl::Vector3<S> below = o.box.min_ - c, above = c - o.box.max_;
+    int k;
+    const S out = below.cwiseMax(above).maxCoeff(&k);
+    const bool up = above[k] == out;
+    // Along n = the face's outward normal, the box reaches n . pose.translation() + its face's offset.
+    const fcl::Vector3<S> n = up ? fcl::Vector3<S>(o.pose.linear().col(k)) : fcl::Vector3<S>(-o.pose.linear().col(k));
+    const S face = up ? o.box.max_[k] : -o.box.min_[k];
+    // The box's side, rounded in S as the link's (SelfCollision::lowestAlong's margin).
+    const S margin = S(1024) * std::numeric_limits<S>::epsilon() *
+                     (o.pose.translation().template lpNorm<1>() + o.box.min_.norm() + o.box.max_.norm());
+    return self.lowestAlong(link, s.poses[link], n) - (n.dot(o.pose.translation()) + face) - margin;
   }
 
   /// A lower bound on the pair's distance at s, as cheap as reaching `enough` allows: SelfCollision's search for
@@ -874,7 +936,11 @@ struct Environment<S>::Impl
     const Obstacle& o = obstacles[p.obstacle];
     if (o.hull)
     {
-      const S d = self.hullDistanceBound(p.link, s.poses[p.link], *o.hull, o.pose, enough);
+      // Most pairs that need more than the balls' gap are certified by the link's separation from the obstacle's
+      // box along one of its faces, one support point where GJK takes several.
+      const S apart = faceSeparation(p.link, s, o);
+      if (!(apart < enough)) return apart;
+      const S d = std::max(apart, self.hullDistanceBound(p.link, s.poses[p.link], *o.hull, o.pose, enough));
       if (!(d < enough) || !measure) return d;
     }
     const S err = S(kMotionDistanceError);
@@ -914,31 +980,34 @@ struct Environment<S>::Impl
   /// from 0 stop.
   MotionResult<S> segment(const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, const MotionRequest<S>& request) const
   {
-    const std::vector<MotionPair> pairs = motionPairs();
+    static thread_local Scratch scratch;
+    Scratch& x = scratch;
+    const std::vector<MotionPair>& pairs = x.pairs;
+    motionPairs(x.pairs);
     const fcl::VectorX<S> step = to - from;
     // Rounding of poses and distances in S, relative to the robot's reach.
     const S pad = S(32) * std::numeric_limits<S>::epsilon() * S(1 + sweeps.reach());
     const S shortest = std::max(S(1e-9), S(16) * std::numeric_limits<S>::epsilon());
 
     MotionResult<S> result;
-    struct Interval
-    {
-      int a, b;
-      std::vector<int> active;
-    };
     // With earliest, intervals are taken left first (a stack), so when a colliding configuration is reported
     // every interval before it has been certified. Without, coarse intervals first (a queue): a colliding segment
     // is found colliding at the first midpoint inside the collision, before the parts around it are certified.
-    std::deque<Interval> waiting;
-    {
-      Interval all{0, 1, std::vector<int>(pairs.size())};
-      for (std::size_t i = 0; i < pairs.size(); ++i) all.active[i] = int(i);
-      waiting.push_back(std::move(all));
-    }
-    std::vector<Sample> samples;
-    samples.push_back(sampleAt(from, to, S(0), pairs, waiting.back().active));
-    samples.push_back(sampleAt(from, to, S(1), pairs, waiting.back().active));
-    std::vector<std::pair<S, S>> certified;  // intervals found free
+    x.waiting.clear();
+    x.head = 0;
+    x.active.resize(pairs.size());
+    for (std::size_t i = 0; i < pairs.size(); ++i) x.active[i] = int(i);
+    x.waiting.push_back({0, 1, 0, pairs.size()});
+    x.used = 0;
+    const auto newSample = [&](S t, const int* begin, const int* end) {
+      if (x.used == x.samples.size()) x.samples.emplace_back();
+      sampleAt(x.samples[x.used], from, to, t, pairs, begin, end, x.q);
+      return int(x.used++);
+    };
+    newSample(S(0), x.active.data(), x.active.data() + pairs.size());
+    newSample(S(1), x.active.data(), x.active.data() + pairs.size());
+    std::vector<std::pair<S, S>>& certified = x.certified;  // intervals found free
+    certified.clear();
     const auto collision = [&](S t) {
       // free_until: where the certified intervals from 0 stop.
       std::sort(certified.begin(), certified.end());
@@ -951,39 +1020,45 @@ struct Environment<S>::Impl
       result.colliding = true;
       result.parameter = t;
       result.free_until = std::min(free_until, t);
-      result.configurations_checked = int(samples.size());
+      result.configurations_checked = int(x.used);
       return result;
     };
-    while (!waiting.empty())
+    std::vector<int>& remaining = x.remaining;
+    std::vector<Uncovered>& uncovered = x.uncovered;
+    while (x.head < x.waiting.size())
     {
-      Interval interval = std::move(request.earliest ? waiting.back() : waiting.front());
+      Interval interval;
       if (request.earliest)
-        waiting.pop_back();
+      {
+        interval = x.waiting.back();
+        x.waiting.pop_back();
+      }
       else
-        waiting.pop_front();
-      Sample& a = samples[interval.a];
-      Sample& b = samples[interval.b];
+        interval = x.waiting[x.head++];
+      Sample& a = x.samples[std::size_t(interval.a)];
+      Sample& b = x.samples[std::size_t(interval.b)];
       const S dt = b.t - a.t;
-      std::vector<int> remaining;
+      remaining.clear();
       // Once a pair stays uncertified the interval is halved anyway: the other pairs' bounds are raised on the
       // halves, where less is enough (an interval too short to halve raises every bound).
       const bool thorough = dt < shortest;
       // The pairs whose motion the ends' bounds do not cover, those whose bounds cover least of it first: the
       // likeliest to stay uncertified (or to collide), so the others are not raised on an interval halved anyway.
-      struct Uncovered
+      uncovered.clear();
+      for (std::size_t k = interval.begin; k < interval.end; ++k)
       {
-        S covered;  ///< the ends' bounds over the motion
-        int pair;
-        S motion;
-      };
-      std::vector<Uncovered> uncovered;
-      for (int i : interval.active)
-      {
+        const int i = x.active[k];
         const S m = moved(a, step, pairs[i], dt, pad);
         if (!(m < a.bound[i] + b.bound[i])) uncovered.push_back({(a.bound[i] + b.bound[i]) / m, i, m});
       }
-      std::stable_sort(uncovered.begin(), uncovered.end(),
-                       [](const Uncovered& x, const Uncovered& y) { return x.covered < y.covered; });
+      // A stable insertion sort: the lists are short, and std::stable_sort would allocate a buffer per interval.
+      for (std::size_t k = 1; k < uncovered.size(); ++k)
+      {
+        const Uncovered u = uncovered[k];
+        std::size_t j = k;
+        for (; j > 0 && u.covered < uncovered[j - 1].covered; --j) uncovered[j] = uncovered[j - 1];
+        uncovered[j] = u;
+      }
       for (const auto& [covered, i, m] : uncovered)
       {
         if (!remaining.empty() && !thorough)
@@ -1012,29 +1087,33 @@ struct Environment<S>::Impl
         certified.emplace_back(a.t, b.t);
         continue;
       }
-      const int b_index = interval.b, a_index = interval.a;
-      samples.push_back(sampleAt(from, to, S(0.5) * (a.t + b.t), pairs, remaining));  // a and b are invalid now
-      const int mid = int(samples.size()) - 1;
+      // The halves share the remaining pairs: appended once to active (which may move, so by offsets).
+      const std::size_t begin = x.active.size();
+      x.active.insert(x.active.end(), remaining.begin(), remaining.end());
+      const std::size_t end = x.active.size();
+      const S mid_t = S(0.5) * (a.t + b.t);
+      const int mid = newSample(mid_t, x.active.data() + begin, x.active.data() + end);  // a and b are invalid now
       // What the ends' bounds leave at the midpoint: a bound less the most the pair moves on the way.
-      Sample& start = samples[a_index];
-      Sample& middle = samples[mid];
+      Sample& start = x.samples[std::size_t(interval.a)];
+      Sample& middle = x.samples[std::size_t(mid)];
+      const Sample& finish = x.samples[std::size_t(interval.b)];
       const S half = middle.t - start.t;
       for (int i : remaining)
         middle.bound[i] = std::max({middle.bound[i], start.bound[i] - moved(start, step, pairs[i], half, pad),
-                                    samples[b_index].bound[i] - moved(middle, step, pairs[i], half, pad)});
+                                    finish.bound[i] - moved(middle, step, pairs[i], half, pad)});
       if (request.earliest)  // the left half on top
       {
-        waiting.push_back({mid, b_index, remaining});
-        waiting.push_back({a_index, mid, std::move(remaining)});
+        x.waiting.push_back({mid, interval.b, begin, end});
+        x.waiting.push_back({interval.a, mid, begin, end});
       }
       else
       {
-        waiting.push_back({a_index, mid, remaining});
-        waiting.push_back({mid, b_index, std::move(remaining)});
+        x.waiting.push_back({interval.a, mid, begin, end});
+        x.waiting.push_back({mid, interval.b, begin, end});
       }
     }
     result.free_until = 1;
-    result.configurations_checked = int(samples.size());
+    result.configurations_checked = int(x.used);
     return result;
   }
 
@@ -1076,6 +1155,7 @@ struct Environment<S>::Impl
   std::vector<std::vector<fcl::Vector3<S>>> link_vertices;  ///< each link's mesh vertices, link frame (heights)
   std::vector<int> geometric_links;
   std::vector<Obstacle> obstacles;
+  std::vector<MotionPair> self_motion_pairs;       ///< motionPairs' self pairs, which obstacles do not change
   std::vector<std::pair<int, Tf<S>>> fixed_pose;  ///< the geometric links no joint variable moves, at their pose
   std::vector<std::uint8_t> fixed_link;           ///< per link: one of fixed_pose
 };

@@ -70,6 +70,11 @@ namespace {
 template <typename S>
 using Tf = fcl::Transform3<S>;
 
+/// GJK on hulls whose bound is not measured further (motion checks' bounds) stops once its certified bound is within
+/// this fraction of the distance reached: the last iterations refine a bound that, this close, certifies nearly as
+/// much.
+constexpr double kUnmeasuredHullGap = 0.05;
+
 /// |ta.t|_1 + |tb.t|_1: what an RS test between volumes posed by ta and tb adds for the world frame's rounding
 /// (as the tree traversals do).
 template <typename S>
@@ -472,7 +477,7 @@ struct SelfCollision<S>::Impl
   /// frame) and of the bound. GJK stops once the bound exceeds `enough`, the best distance so far (the pair is
   /// skipped then, whatever its bound). direction: world frame, from a's hull towards b's.
   static S hullDistance(const Tf<S>& ta, const BodyHull<S>& a, const Tf<S>& tb, const BodyHull<S>& b, S enough,
-                        fcl::Vector3d& direction)
+                        fcl::Vector3d& direction, double relative_gap = triangle_shape::kIterativeRelativeGap)
   {
     const Eigen::Isometry3d pa = ta.template cast<double>(), pb = tb.template cast<double>();
     const double margin = 1024 * double(std::numeric_limits<S>::epsilon()) *
@@ -480,7 +485,8 @@ struct SelfCollision<S>::Impl
     const double shrink = a.radius + b.radius + margin;
     const fcl::Vector3d start = pa * a.center.template cast<double>() - pb * b.center.template cast<double>();
     const double bound =
-        triangle_shape::hullsLowerBound(a.points, pa, b.points, pb, start, double(enough) + shrink, &direction) -
+        triangle_shape::hullsLowerBound(a.points, pa, b.points, pb, start, double(enough) + shrink, &direction,
+                                        relative_gap) -
         shrink;
     // Rounded down to S.
     const S rounded = S(bound);
@@ -644,8 +650,10 @@ struct SelfCollision<S>::Impl
         else if (c.stage == Stage::kElementSpheres)
         {
           c.stage = Stage::kElementHulls;
-          c.bound = std::max(c.bound, hullDistance(ta, la.elements[c.element_a].hull, tb,
-                                                   lb.elements[c.element_b].hull, best, c.direction));
+          // A bound that is not measured further needs no more than kUnmeasuredHullGap of the distance.
+          c.bound = std::max(c.bound, hullDistance(ta, la.elements[c.element_a].hull, tb, lb.elements[c.element_b].hull,
+                                                   best, c.direction,
+                                                   measure ? triangle_shape::kIterativeRelativeGap : kUnmeasuredHullGap));
         }
         else
         {
@@ -914,9 +922,36 @@ S SelfCollision<S>::hullDistanceBound(int link, const fcl::Transform3<S>& pose, 
   fcl::Vector3d direction;
   for (const typename Impl::Element& e : impl_->links[link].elements)
   {
-    best = std::min(best, Impl::hullDistance(pose, e.hull, body_pose, body, best, direction));
+    best = std::min(best, Impl::hullDistance(pose, e.hull, body_pose, body, best, direction, kUnmeasuredHullGap));
   }
   return best;
+}
+
+template <typename S>
+S SelfCollision<S>::lowestAlong(int link, const fcl::Transform3<S>& pose, const fcl::Vector3<S>& n) const
+{
+  if (link < 0 || link >= int(impl_->links.size()))
+    throw std::invalid_argument("fcl_rs::SelfCollision::lowestAlong: link " + std::to_string(link) + " out of range [0, " +
+                                std::to_string(impl_->links.size()) + ")");
+  const Eigen::Isometry3d p = pose.template cast<double>();
+  const fcl::Vector3d u = n.template cast<double>();
+  const fcl::Vector3d d = p.linear().transpose() * u;  // n in the link frame
+  const double offset = u.dot(p.translation());
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const typename Impl::Element& e : impl_->links[link].elements)
+  {
+    const triangle_shape::HullPoints& points = e.hull.points;
+    // The walk's point, certified the lowest by the clusters' scan (as GJK's last support point is).
+    const std::size_t i =
+        points.walks() ? points.lowestBelow(d, points.walk(d, triangle_shape::HullPoints::kNoPoint)) : points.lowest(d);
+    // hullDistance's margin, for one hull.
+    const double margin =
+        1024 * double(std::numeric_limits<S>::epsilon()) * (p.translation().template lpNorm<1>() + e.hull.reach);
+    lowest = std::min(lowest, points.points()[i].dot(d) + offset - e.hull.radius - margin);
+  }
+  // Rounded down to S.
+  const S rounded = S(lowest);
+  return double(rounded) > lowest ? std::nextafter(rounded, -std::numeric_limits<S>::infinity()) : rounded;
 }
 
 template <typename S>
