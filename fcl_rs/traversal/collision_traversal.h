@@ -377,7 +377,7 @@ template <typename Shape, typename NarrowPhaseSolver>
 void collideMeshShape(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& node)
 {
   detail::MeshShapeCollisionDescent<MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>> descent(node);
-  detail::descendDepthFirst(descent, {0}, detail::DescentConfig{64});
+  detail::descendDepthFirst(descent, {0});
 }
 
 /// Mesh-shape collision of a shape queried at many poses (a robot's link shapes, a planning scene's obstacles):
