@@ -1,20 +1,23 @@
 // fcl_rs_bench_meshshape: µs per robot link against a primitive (box, cylinder, sphere, capsule), RS against
-// FCL's OBB, OBBRSS, RSS, kIOS and AABB trees of the same link, first contact and exhaustive.
+// FCL's OBB, OBBRSS, RSS, kIOS and AABB trees of the same link (and Coal's OBB and OBBRSS trees, built with
+// FCL_RS_WITH_COAL), first contact and exhaustive.
 //
 // Per robot (panda and ur5 from ../shared/data, or any --urdf) and per link with a collision mesh: --poses
 // seeded shapes of each kind around the link (sizes 0.1 to 0.6 of the link's bounding radius, centres up to
 // 1.5 radii from its centre, random orientations), the link at a seeded pose. Each query is what a planner asks
 // of a link and a static obstacle: fcl_rs::collide for RS, fcl::collide for FCL's types (the shape object is
-// reused across queries, as an obstacle is). Times are per block (one link, one shape kind) the fastest of
-// --passes passes, the passes interleaved over the BV types; a row's time is the sum over its blocks. The
-// ratio compares RS with the fastest FCL type of the row; its spread is the range over links of the per-link
-// ratio against the same type.
+// reused across queries, as an obstacle is; Coal's queries ask coal::collide the same question about Coal shapes of
+// the same size: contacts off, security margin and break distance 0). Times are per block (one link, one shape
+// kind) the fastest of --passes passes, the passes interleaved over the BV types; a row's time is the sum over its
+// blocks. The ratio compares RS with the fastest other type of the row (FCL's or Coal's); its spread is the range
+// over links of the per-link ratio against the same type.
 
 #include "bench_common.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -37,6 +40,9 @@
 
 #include "common/command_line.h"
 #include "common/csv_writer.h"
+#ifdef FCL_RS_WITH_COAL
+#include "coal_peer.h"
+#endif
 
 namespace {
 
@@ -51,17 +57,26 @@ struct Options
   std::string urdf;
 };
 
-const char* const kTypes[] = {"RS", "OBB", "OBBRSS", "RSS", "kIOS", "AABB"};
-constexpr int kNumTypes = 6;
+/// RS, then FCL's types, then Coal's.
+const char* const kTypes[] = {"RS", "OBB", "OBBRSS", "RSS", "kIOS", "AABB",
+#ifdef FCL_RS_WITH_COAL
+                              "Coal OBB", "Coal OBBRSS",
+#endif
+};
+constexpr int kNumFclTypes = 6;  // RS and FCL's
+constexpr int kNumTypes = sizeof(kTypes) / sizeof(kTypes[0]);
 const char* const kKinds[] = {"box", "cylinder", "sphere", "capsule"};
 constexpr int kNumKinds = 4;
 const char* const kModes[] = {"first contact", "exhaustive"};
 
-/// One link's trees, one per entry of kTypes.
+/// One link's trees, one per entry of kTypes (FCL's and RS in models, Coal's in coal).
 struct LinkModels
 {
   std::string name;
   std::vector<std::shared_ptr<fcl::CollisionGeometry<S>>> models;
+#ifdef FCL_RS_WITH_COAL
+  std::vector<std::shared_ptr<const CoalMesh>> coal;
+#endif
   Transform3d pose;
   Vector3d centre;
   double radius = 0;
@@ -88,12 +103,22 @@ std::shared_ptr<fcl::CollisionGeometry<S>> randomShape(int kind, double r, Rando
   return g;
 }
 
+/// A shape at its pose (and the same shape for Coal).
+struct Posed
+{
+  std::shared_ptr<fcl::CollisionGeometry<S>> shape;
+  Transform3d pose;
+#ifdef FCL_RS_WITH_COAL
+  std::shared_ptr<const CoalShape> coal;
+#endif
+};
+
 struct Cell  // one robot, kind, mode: per type the summed time, per link the times
 {
   std::string robot;
   int kind = 0, mode = 0;
   std::vector<std::vector<double>> seconds;  // [type][link]
-  int queries = 0, colliding = 0, differ = 0;
+  int queries = 0, colliding = 0, differ = 0, coal_differ = 0;
 };
 
 std::vector<Cell> benchRobot(const std::string& urdf, const Options& o)
@@ -108,6 +133,10 @@ std::vector<Cell> benchRobot(const std::string& urdf, const Options& o)
     m.name = l.name;
     m.models = {tree<fcl_rs::RS<S>>(l.mesh), tree<fcl::OBB<S>>(l.mesh), tree<fcl::OBBRSS<S>>(l.mesh),
                 tree<fcl::RSS<S>>(l.mesh), tree<fcl::kIOS<S>>(l.mesh), tree<fcl::AABB<S>>(l.mesh)};
+#ifdef FCL_RS_WITH_COAL
+    for (const CoalBV bv : {CoalBV::kOBB, CoalBV::kOBBRSS})
+      m.coal.push_back(std::make_shared<const CoalMesh>(bv, l.mesh.vertices, l.mesh.triangles));
+#endif
     Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (const auto& v : l.mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
     m.centre = 0.5 * (lo + hi);
@@ -117,7 +146,6 @@ std::vector<Cell> benchRobot(const std::string& urdf, const Options& o)
     links.push_back(std::move(m));
   }
   const int n_links = int(links.size());
-  using Posed = std::pair<std::shared_ptr<fcl::CollisionGeometry<S>>, Transform3d>;
   std::vector<std::vector<std::vector<Posed>>> shapes(static_cast<std::size_t>(n_links));  // [link][kind][pose]
   for (auto& s : shapes) s.resize(kNumKinds);
   for (int l = 0; l < n_links; ++l)
@@ -130,17 +158,26 @@ std::vector<Cell> benchRobot(const std::string& urdf, const Options& o)
         Transform3d tf = Transform3d::Identity();
         tf.linear() = randomRotation(rnd);
         tf.translation() = links[l].pose * (links[l].centre + dir.normalized() * (1.5 * links[l].radius * rnd.uniform()));
-        shapes[l][k].emplace_back(std::move(g), tf);
+#ifdef FCL_RS_WITH_COAL
+        auto coal = std::make_shared<const CoalShape>(*g);
+        shapes[l][k].push_back(Posed{std::move(g), tf, std::move(coal)});
+#else
+        shapes[l][k].push_back(Posed{std::move(g), tf});
+#endif
       }
 
   const fcl::CollisionRequest<S> requests[2] = {fcl::CollisionRequest<S>(1, false),
                                                 fcl::CollisionRequest<S>(std::numeric_limits<int>::max(), false)};
-  const auto query = [&](int type, int l, const Posed& s,
-                         int mode) {
+  const auto query = [&](int type, int l, const Posed& s, int mode) -> std::size_t {
+#ifdef FCL_RS_WITH_COAL
+    if (type >= kNumFclTypes)
+      return links[l].coal[std::size_t(type - kNumFclTypes)]->collide(links[l].pose, *s.coal, s.pose,
+                                                                       requests[mode].num_max_contacts);
+#endif
     fcl::CollisionResult<S> result;
-    const auto* mesh = links[l].models[type].get();
-    return type == 0 ? fcl_rs::collide(mesh, links[l].pose, s.first.get(), s.second, requests[mode], result)
-                     : fcl::collide(mesh, links[l].pose, s.first.get(), s.second, requests[mode], result);
+    const auto* mesh = links[l].models[std::size_t(type)].get();
+    return type == 0 ? fcl_rs::collide(mesh, links[l].pose, s.shape.get(), s.pose, requests[mode], result)
+                     : fcl::collide(mesh, links[l].pose, s.shape.get(), s.pose, requests[mode], result);
   };
 
   std::vector<Cell> cells;
@@ -159,7 +196,8 @@ std::vector<Cell> benchRobot(const std::string& urdf, const Options& o)
           const std::size_t reference = query(0, l, s, mode);
           ++c.queries;
           c.colliding += reference > 0;
-          for (int t = 1; t < kNumTypes; ++t) c.differ += query(t, l, s, mode) != reference;
+          for (int t = 1; t < kNumTypes; ++t)
+            (t < kNumFclTypes ? c.differ : c.coal_differ) += query(t, l, s, mode) != reference;
         }
       cells.push_back(std::move(c));
     }
@@ -230,14 +268,21 @@ int main(int argc, char** argv)
   std::printf("\nmachine: nproc %d, CPU %s; compiler %s; single-threaded timing with steady_clock\n", onlineCpus(),
               cpuModel().c_str(), __VERSION__);
   std::printf("%-7s %-9s %-14s", "robot", "shape", "mode");
-  for (const char* t : kTypes) std::printf(" %8s", t);
-  std::printf(" %-7s %9s %15s %9s %7s\n", "fastest", "RS/best", "links min-max", "colliding", "differ");
+  for (const char* t : kTypes) std::printf(" %*s", std::max(8, int(std::strlen(t))), t);
+  std::printf(" %-11s %9s %15s %9s %7s", "fastest", "RS/best", "links min-max", "colliding", "differ");
+  if (kNumTypes > kNumFclTypes) std::printf(" %11s", "Coal differ");
+  std::printf("\n");
   std::unique_ptr<fcl_rs::tools::CsvWriter> csv;
   if (!o.csv.empty())
-    csv = std::make_unique<fcl_rs::tools::CsvWriter>(
-        o.csv, std::vector<std::string>{"robot", "shape", "mode", "us_rs", "us_obb", "us_obbrss", "us_rss", "us_kios",
-                                        "us_aabb", "fastest_fcl", "rs_vs_fastest", "link_ratio_min", "link_ratio_max",
-                                        "colliding_share", "differ"});
+  {
+    std::vector<std::string> columns{"robot", "shape", "mode", "us_rs", "us_obb", "us_obbrss", "us_rss", "us_kios",
+                                     "us_aabb"};
+    if (kNumTypes > kNumFclTypes) columns.insert(columns.end(), {"us_coal_obb", "us_coal_obbrss"});
+    columns.insert(columns.end(), {"fastest", "rs_vs_fastest", "link_ratio_min", "link_ratio_max",
+                                   "colliding_share", "differ"});
+    if (kNumTypes > kNumFclTypes) columns.push_back("coal_differ");
+    csv = std::make_unique<fcl_rs::tools::CsvWriter>(o.csv, columns);
+  }
   int differ = 0;
   for (const Cell& c : cells)
   {
@@ -253,16 +298,25 @@ int main(int argc, char** argv)
       hi = std::max(hi, r);
     }
     std::printf("%-7s %-9s %-14s", c.robot.c_str(), kKinds[c.kind], kModes[c.mode]);
-    for (double u : us) std::printf(" %8s", timeText(u).c_str());
-    std::printf(" %-7s %9s %7s-%-7s %8.1f%% %7d\n", kTypes[best], ratioText(us[0] / us[best]).c_str(),
+    for (int t = 0; t < kNumTypes; ++t) std::printf(" %*s", std::max(8, int(std::strlen(kTypes[t]))), timeText(us[t]).c_str());
+    std::printf(" %-11s %9s %7s-%-7s %8.1f%% %7d", kTypes[best], ratioText(us[0] / us[best]).c_str(),
                 ratioText(lo).c_str(), ratioText(hi).c_str(), 100.0 * c.colliding / c.queries, c.differ);
+    if (kNumTypes > kNumFclTypes) std::printf(" %11d", c.coal_differ);
+    std::printf("\n");
     if (csv)
-      csv->row({c.robot, kKinds[c.kind], kModes[c.mode], us[0], us[1], us[2], us[3], us[4], us[5], kTypes[best],
-                us[0] / us[best], lo, hi, double(c.colliding) / c.queries, c.differ});
+    {
+      std::vector<fcl_rs::tools::CsvWriter::Cell> row{c.robot, kKinds[c.kind], kModes[c.mode]};
+      for (double u : us) row.emplace_back(u);
+      row.insert(row.end(), {kTypes[best], us[0] / us[best], lo, hi, double(c.colliding) / c.queries, c.differ});
+      if (kNumTypes > kNumFclTypes) row.emplace_back(c.coal_differ);
+      csv->row(row);
+    }
     differ += c.differ;
   }
-  std::printf("\nus per query (one link, one shape); RS/best: RS against the fastest FCL type of the row; links:\n"
-              "range over links of the same ratio. differ: queries whose contact count differs from RS's (expected 0).\n");
+  std::printf("\nus per query (one link, one shape); RS/best: RS against the fastest other type of the row; links:\n"
+              "range over links of the same ratio. differ: queries whose contact count differs from RS's in one of\n"
+              "FCL's types (expected 0); Coal differ: the same for Coal's (its GJK leaf test may disagree on grazing\n"
+              "triangles).\n");
   if (csv)
   {
     csv->close();

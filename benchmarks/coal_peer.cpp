@@ -9,6 +9,12 @@
 #include <coal/config.hh>
 #include <coal/distance.h>
 #include <coal/octree.h>
+#include <coal/shape/geometric_shapes.h>
+
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/sphere.h>
 
 #include <stdexcept>
 
@@ -135,6 +141,58 @@ double CoalOcTreeMesh::distance(const fcl::Transform3d& tf_mesh) const
   coal::DistanceResult result;
   return coal::distance(geometries_->mesh.get(), toCoal(tf_mesh), geometries_->octree.get(), coal::Transform3s(),
                         request, result);
+}
+
+struct CoalShape::Geometry
+{
+  std::shared_ptr<coal::ShapeBase> shape;
+};
+
+namespace {
+
+std::shared_ptr<coal::ShapeBase> coalShape(const fcl::CollisionGeometry<double>& g)
+{
+  switch (g.getNodeType())
+  {
+    case fcl::GEOM_BOX: return std::make_shared<coal::Box>(static_cast<const fcl::Box<double>&>(g).side);
+    case fcl::GEOM_SPHERE: return std::make_shared<coal::Sphere>(static_cast<const fcl::Sphere<double>&>(g).radius);
+    case fcl::GEOM_CAPSULE:
+    {
+      const auto& c = static_cast<const fcl::Capsule<double>&>(g);
+      return std::make_shared<coal::Capsule>(c.radius, c.lz);
+    }
+    case fcl::GEOM_CYLINDER:
+    {
+      const auto& c = static_cast<const fcl::Cylinder<double>&>(g);
+      return std::make_shared<coal::Cylinder>(c.radius, c.lz);
+    }
+    default: throw std::invalid_argument("CoalShape: not a box, sphere, capsule or cylinder");
+  }
+}
+
+}  // namespace
+
+CoalShape::CoalShape(const fcl::CollisionGeometry<double>& shape) : geometry_(new Geometry{coalShape(shape)})
+{
+  geometry_->shape->computeLocalAABB();
+}
+
+CoalShape::~CoalShape() = default;
+
+CoalMesh::CoalMesh(CoalBV bv, const std::vector<fcl::Vector3d>& vertices, const std::vector<fcl::Triangle>& triangles)
+  : tree_(build(bv, vertices, triangles))
+{
+}
+
+CoalMesh::~CoalMesh() = default;
+
+std::size_t CoalMesh::collide(const fcl::Transform3d& tf_mesh, const CoalShape& shape, const fcl::Transform3d& tf_shape,
+                              std::size_t max_contacts) const
+{
+  const coal::CollisionRequest request = firstContactsRequest(max_contacts);
+  coal::CollisionResult result;
+  return coal::collide(tree_.get(), toCoal(tf_mesh),
+                       shape.geometry_->shape.get(), toCoal(tf_shape), request, result);
 }
 
 }  // namespace bench

@@ -5,6 +5,7 @@
 #ifndef FCL_RS_BENCHMARKS_COAL_PEER_H
 #define FCL_RS_BENCHMARKS_COAL_PEER_H
 
+#include <fcl/geometry/collision_geometry.h>
 #include <fcl/math/geometry.h>
 #include <fcl/math/triangle.h>
 
@@ -15,6 +16,9 @@
 
 namespace octomap {
 class OcTree;
+}
+namespace coal {
+class BVHModelBase;
 }
 
 namespace fcl_rs {
@@ -75,6 +79,39 @@ public:
 private:
   struct Geometries;
   std::unique_ptr<Geometries> geometries_;
+};
+
+/// An FCL box, sphere, capsule or cylinder as the Coal shape of the same size (throws for any other geometry).
+class CoalShape
+{
+public:
+  explicit CoalShape(const fcl::CollisionGeometry<double>& shape);
+  ~CoalShape();
+  CoalShape(const CoalShape&) = delete;
+  CoalShape& operator=(const CoalShape&) = delete;
+
+private:
+  friend class CoalMesh;
+  struct Geometry;
+  std::unique_ptr<Geometry> geometry_;
+};
+
+/// A mesh as a Coal tree of one BV type, against Coal shapes.
+class CoalMesh
+{
+public:
+  CoalMesh(CoalBV bv, const std::vector<fcl::Vector3d>& vertices, const std::vector<fcl::Triangle>& triangles);
+  ~CoalMesh();
+  CoalMesh(const CoalMesh&) = delete;
+  CoalMesh& operator=(const CoalMesh&) = delete;
+
+  /// Contacts (at most max_contacts) of the mesh at tf_mesh and shape at tf_shape, asked as CoalMeshPair::collide
+  /// asks.
+  std::size_t collide(const fcl::Transform3d& tf_mesh, const CoalShape& shape, const fcl::Transform3d& tf_shape,
+                      std::size_t max_contacts) const;
+
+private:
+  std::shared_ptr<coal::BVHModelBase> tree_;
 };
 
 }  // namespace bench

@@ -983,6 +983,52 @@ TYPED_TEST(CollideMeshShape, LoopMatchesFclsDriverOnContactsAndCosts)
   EXPECT_GE(with_costs, 10);
 }
 
+/// The shape's own-frame RS comes from a per-thread cache (fcl_rs::ownFrameRS): a shape object resized between
+/// queries, or a new shape of another size at the address of a freed one, must be tested with its new volume,
+/// never the cached one. A small shape in the torus's hole meets nothing; the large one at the same place cuts
+/// the ring: with a stale volume its node tests would prune every triangle.
+TYPED_TEST(CollideMeshShape, ResizedOrReallocatedShapeIsRefitted)
+{
+  using S = TypeParam;
+  const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.3)));
+  const fcl::Transform3<S> tf = fcl::Transform3<S>::Identity();
+  const fcl::CollisionRequest<S> request(1000, false);
+  const auto collides = [&](const auto& shape) {
+    fcl::CollisionResult<S> ours, obb;
+    fcl_rs::collide(torus.rs.get(), tf, &shape, tf, request, ours);
+    fcl::collide(torus.obb.get(), tf, &shape, tf, request, obb);
+    EXPECT_EQ(ours.numContacts(), obb.numContacts());
+    return ours.isCollision();
+  };
+  const auto sameSlabs = [](const fcl_rs::RS<S>& a, const fcl_rs::RS<S>& b) {
+    return a.lo == b.lo && a.hi == b.hi && a.axis == b.axis && a.origin == b.origin;
+  };
+
+  fcl::Box<S> box(S(0.4), S(0.4), S(0.4));
+  EXPECT_FALSE(collides(box));
+  box.side.setConstant(S(2.4));
+  EXPECT_TRUE(collides(box)) << "a resized box was tested with its old volume";
+  fcl_rs::RS<S> fitted;
+  fcl::computeBV(box, tf, fitted);
+  EXPECT_TRUE(sameSlabs(fcl_rs::ownFrameRS(box), fitted));
+
+  fcl::Capsule<S> capsule(S(0.1), S(0.2));
+  EXPECT_FALSE(collides(capsule));
+  capsule.radius = S(1.2);
+  EXPECT_TRUE(collides(capsule)) << "a resized capsule was tested with its old volume";
+
+  std::optional<fcl::Cylinder<S>> cylinder;
+  cylinder.emplace(S(0.2), S(0.2));
+  const void* address = &*cylinder;
+  EXPECT_FALSE(collides(*cylinder));
+  cylinder.reset();
+  cylinder.emplace(S(1.2), S(0.2));
+  ASSERT_EQ(address, &*cylinder);
+  EXPECT_TRUE(collides(*cylinder)) << "a cylinder at a freed cylinder's address was tested with its volume";
+  fcl::computeBV(*cylinder, tf, fitted);
+  EXPECT_TRUE(sameSlabs(fcl_rs::ownFrameRS(*cylinder), fitted));
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 // Drop-in behaviour of fcl_rs::collide.
 

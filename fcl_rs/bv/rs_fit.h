@@ -3,8 +3,13 @@
 #define FCL_RS_RS_FIT_H
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <fcl/geometry/bvh/BVH_model.h>
@@ -66,11 +71,41 @@ RS<S> placeShapeRS(const RS<S>& bv, const fcl::Transform3<S>& tf)
   return placed;
 }
 
-/// RS of a shape symmetric about the origin of its frame tf, in that frame, from its support
-/// function (unit direction in the shape's frame -> extent). Exact and cheap, where FCL's generic
-/// path fits a PCA frame to bound vertices at every mesh-shape query.
+/// The support function (unit direction in the shape's frame -> extent) of a shape symmetric about the origin of
+/// its frame: box, sphere, ellipsoid, capsule, cylinder (axis along z, centred at the origin).
+template <typename S>
+auto symmetricSupport(const fcl::Box<S>& s)
+{
+  return [half = fcl::Vector3<S>(s.side / 2)](const fcl::Vector3<S>& d) { return d.cwiseAbs().dot(half); };
+}
+template <typename S>
+auto symmetricSupport(const fcl::Sphere<S>& s)
+{
+  return [r = s.radius](const fcl::Vector3<S>&) { return r; };
+}
+template <typename S>
+auto symmetricSupport(const fcl::Ellipsoid<S>& s)
+{
+  return [radii = s.radii](const fcl::Vector3<S>& d) { return d.cwiseProduct(radii).norm(); };
+}
+template <typename S>
+auto symmetricSupport(const fcl::Capsule<S>& s)
+{
+  return [r = s.radius, lz = s.lz](const fcl::Vector3<S>& d) { return std::abs(d[2]) * lz / 2 + r; };
+}
+template <typename S>
+auto symmetricSupport(const fcl::Cylinder<S>& s)
+{
+  return [r = s.radius, lz = s.lz](const fcl::Vector3<S>& d) {
+    return std::abs(d[2]) * lz / 2 + r * std::sqrt(d[0] * d[0] + d[1] * d[1]);
+  };
+}
+
+/// The slabs of the RS of a shape symmetric about its frame's origin, in that frame, from its support function
+/// (symmetricSupport), with box_excess 0: valid (it only costs the exact tests pruning), and the boxed test, the
+/// default, never reads it.
 template <typename S, typename Support>
-RS<S> symmetricShapeRS(const fcl::Transform3<S>& tf, Support support)
+RS<S> symmetricSlabs(Support support)
 {
   RS<S> bv;  // the identity frame, exact in storage
   for (int k = 0; k < kNumSlabs; ++k)
@@ -78,8 +113,70 @@ RS<S> symmetricShapeRS(const fcl::Transform3<S>& tf, Support support)
     bv.hi[k] = RS<S>::slabAbove(support(detail::slabDirection<S>(k)) * (1 + 8 * std::numeric_limits<S>::epsilon()));
     bv.lo[k] = -bv.hi[k];
   }
+  return bv;
+}
+
+/// RS of a shape symmetric about the origin of its frame tf, in that frame, from its support
+/// function (symmetricSupport). Exact and cheap, where FCL's generic path fits a PCA frame to bound vertices at
+/// every mesh-shape query.
+template <typename S, typename Support>
+RS<S> symmetricShapeRS(const fcl::Transform3<S>& tf, Support support)
+{
+  RS<S> bv = symmetricSlabs<S>(support);
   bv.updateBoxExcess();
   return placeShapeRS(bv, tf);
+}
+
+namespace detail {
+
+/// The parameters a shape's own-frame RS (ownFrameRS) is a function of: its volume's key in ownFrameRS's cache.
+template <typename S>
+std::array<S, 3> shapeKey(const fcl::Box<S>& s) { return {s.side[0], s.side[1], s.side[2]}; }
+template <typename S>
+std::array<S, 3> shapeKey(const fcl::Ellipsoid<S>& s) { return {s.radii[0], s.radii[1], s.radii[2]}; }
+template <typename S>
+std::array<S, 3> shapeKey(const fcl::Capsule<S>& s) { return {s.radius, s.lz, S(0)}; }
+template <typename S>
+std::array<S, 3> shapeKey(const fcl::Cylinder<S>& s) { return {s.radius, s.lz, S(0)}; }
+
+template <typename Shape, typename = void>
+struct HasShapeKey : std::false_type {};
+template <typename Shape>
+struct HasShapeKey<Shape, std::void_t<decltype(shapeKey(std::declval<const Shape&>()))>> : std::true_type {};
+
+}  // namespace detail
+
+/// The RS of a box, ellipsoid, capsule or cylinder in its own frame (symmetricSlabs: fcl::computeBV's with the
+/// identity but box_excess 0), for a shape queried at many poses, from a small per-thread cache: a planner asks
+/// about the same obstacle object again and again, and the fit is a good part of a small query. An entry's slot
+/// is picked by the shape's address, and the entry is reused only when the shape's parameters equal those it was
+/// fitted from (the volume is a function of them alone), so a resized shape, or another shape allocated where a
+/// freed one was, is refitted; each thread has its own entries, so nothing is shared. The reference is valid
+/// until the thread's next call.
+template <typename Shape>
+const RS<typename Shape::S>& ownFrameRS(const Shape& shape)
+{
+  using S = typename Shape::S;
+  struct Entry
+  {
+    std::array<S, 3> key;  // NaN when empty: equal to no key
+    RS<S> bv;
+  };
+  constexpr std::size_t kSlots = 16;
+  thread_local std::array<Entry, kSlots> cache = [] {
+    std::array<Entry, kSlots> entries;
+    for (Entry& e : entries) e.key.fill(std::numeric_limits<S>::quiet_NaN());
+    return entries;
+  }();
+  const auto address = reinterpret_cast<std::uintptr_t>(&shape);
+  Entry& e = cache[((address >> 4) ^ (address >> 12)) % kSlots];
+  const std::array<S, 3> key = detail::shapeKey(shape);
+  if (e.key != key)
+  {
+    e.bv = symmetricSlabs<S>(symmetricSupport(shape));
+    e.key = key;
+  }
+  return e.bv;
 }
 
 /// The principal box of bv as an FCL Box and its pose (FCL's approximate-cost path needs it).
@@ -326,8 +423,7 @@ struct ComputeBVImpl<S, fcl_rs::RS<S>, Box<S>>
 {
   static void run(const Box<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
   {
-    const Vector3<S> half = s.side / 2;
-    bv = fcl_rs::symmetricShapeRS<S>(tf, [&](const Vector3<S>& d) { return d.cwiseAbs().dot(half); });
+    bv = fcl_rs::symmetricShapeRS<S>(tf, fcl_rs::symmetricSupport(s));
   }
 };
 
@@ -336,7 +432,7 @@ struct ComputeBVImpl<S, fcl_rs::RS<S>, Sphere<S>>
 {
   static void run(const Sphere<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
   {
-    bv = fcl_rs::symmetricShapeRS<S>(tf, [&](const Vector3<S>&) { return s.radius; });
+    bv = fcl_rs::symmetricShapeRS<S>(tf, fcl_rs::symmetricSupport(s));
   }
 };
 
@@ -345,17 +441,16 @@ struct ComputeBVImpl<S, fcl_rs::RS<S>, Ellipsoid<S>>
 {
   static void run(const Ellipsoid<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
   {
-    bv = fcl_rs::symmetricShapeRS<S>(tf, [&](const Vector3<S>& d) { return d.cwiseProduct(s.radii).norm(); });
+    bv = fcl_rs::symmetricShapeRS<S>(tf, fcl_rs::symmetricSupport(s));
   }
 };
 
-/// Capsule and cylinder: axis along z, centred at the origin.
 template <typename S>
 struct ComputeBVImpl<S, fcl_rs::RS<S>, Capsule<S>>
 {
   static void run(const Capsule<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
   {
-    bv = fcl_rs::symmetricShapeRS<S>(tf, [&](const Vector3<S>& d) { return std::abs(d[2]) * s.lz / 2 + s.radius; });
+    bv = fcl_rs::symmetricShapeRS<S>(tf, fcl_rs::symmetricSupport(s));
   }
 };
 
@@ -364,9 +459,7 @@ struct ComputeBVImpl<S, fcl_rs::RS<S>, Cylinder<S>>
 {
   static void run(const Cylinder<S>& s, const Transform3<S>& tf, fcl_rs::RS<S>& bv)
   {
-    bv = fcl_rs::symmetricShapeRS<S>(tf, [&](const Vector3<S>& d) {
-      return std::abs(d[2]) * s.lz / 2 + s.radius * std::sqrt(d[0] * d[0] + d[1] * d[1]);
-    });
+    bv = fcl_rs::symmetricShapeRS<S>(tf, fcl_rs::symmetricSupport(s));
   }
 };
 

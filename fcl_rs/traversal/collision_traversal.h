@@ -193,6 +193,8 @@ template <typename S, typename Shape>
 class ShapeBound
 {
 public:
+  /// With the shape's own-frame RS from ownFrameRS's per-thread cache where it has one (a box, ellipsoid, capsule
+  /// or cylinder), else fitted here.
   ShapeBound(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh) : ShapeBound(fitted(shape), shape_in_mesh) {}
   /// From the shape's RS fitted in its own frame (fcl::computeBV with the identity), for a shape queried many
   /// times.
@@ -209,9 +211,14 @@ public:
 private:
   static RS<S> fitted(const Shape& shape)
   {
-    RS<S> bv;
-    fcl::computeBV(shape, fcl::Transform3<S>::Identity(), bv);
-    return bv;
+    if constexpr (detail::HasShapeKey<Shape>::value)
+      return ownFrameRS(shape);
+    else
+    {
+      RS<S> bv;
+      fcl::computeBV(shape, fcl::Transform3<S>::Identity(), bv);
+      return bv;
+    }
   }
 
   RS<S> bv_;
@@ -377,7 +384,7 @@ template <typename Shape, typename NarrowPhaseSolver>
 void collideMeshShape(MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>& node)
 {
   detail::MeshShapeCollisionDescent<MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver>> descent(node);
-  detail::descendDepthFirst(descent, {0}, detail::DescentConfig{64});
+  detail::descendDepthFirst(descent, {0});
 }
 
 /// Mesh-shape collision of a shape queried at many poses (a robot's link shapes, a planning scene's obstacles):

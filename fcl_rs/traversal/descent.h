@@ -12,10 +12,10 @@
 namespace fcl_rs {
 namespace detail {
 
-/// Settings of a descent.
+/// Settings of a best-first descent.
 struct DescentConfig
 {
-  /// Pairs the stack (or heap) holds before it first grows: most queries never grow it.
+  /// Pairs the heap holds before it first grows: most queries never grow it.
   std::size_t reserve = 128;
 };
 
@@ -59,15 +59,43 @@ bool splitsFirst(const Policy& policy, const typename Policy::Visit& v)
 ///   bool canStop(S bound)                      whether a pair of that bound cannot improve the result;
 ///   void leafTest(const Visit&)                the test of a pair of two leaves the descent reaches.
 
+/// A stack whose first N entries live in the object itself, the rest on the heap: a small query's descent never
+/// reaches the allocator (a deep one spills).
+template <typename T, std::size_t N>
+class SmallStack
+{
+public:
+  bool empty() const { return size_ == 0; }
+  void push(const T& x)
+  {
+    if (size_ < N)
+      local_[size_] = x;
+    else
+      spill_.push_back(x);
+    ++size_;
+  }
+  T pop()
+  {
+    if (--size_ < N) return local_[size_];
+    const T x = spill_.back();
+    spill_.pop_back();
+    return x;
+  }
+
+private:
+  T local_[N];
+  std::vector<T> spill_;  // entries N and up
+  std::size_t size_ = 0;
+};
+
 /// Depth first from `root`: a visited pair of leaves goes to the leaf test, any other pair to the node test, and
 /// an overlapping pair goes on at once with its first child pair, stacking the others (a pair split goes on
 /// without a stack round trip). Stops when the leaf test says so or nothing is left.
 template <typename Policy>
-void descendDepthFirst(Policy& policy, typename Policy::Pair root, const DescentConfig& config = {})
+void descendDepthFirst(Policy& policy, typename Policy::Pair root)
 {
   using Pair = typename Policy::Pair;
-  std::vector<Pair> stack;  // the later children of the pairs split so far
-  stack.reserve(config.reserve);
+  SmallStack<Pair, 64> stack;  // the later children of the pairs split so far
   Pair pair = root;
   for (;;)
   {
@@ -83,7 +111,7 @@ void descendDepthFirst(Policy& policy, typename Policy::Pair root, const Descent
     {
       Pair children[Policy::kMaxChildren];
       const int n = policy.children(v, splitsFirst(policy, v), children);
-      for (int i = n - 1; i > 0; --i) stack.push_back(children[i]);
+      for (int i = n - 1; i > 0; --i) stack.push(children[i]);
       if (n > 0)
       {
         pair = children[0];
@@ -91,8 +119,7 @@ void descendDepthFirst(Policy& policy, typename Policy::Pair root, const Descent
       }
     }
     if (stack.empty()) return;
-    pair = stack.back();
-    stack.pop_back();
+    pair = stack.pop();
   }
 }
 
