@@ -75,6 +75,14 @@ using Tf = fcl::Transform3<S>;
 /// much.
 constexpr double kUnmeasuredHullGap = 0.05;
 
+/// x rounded down to S, so that a lower bound computed in double stays one.
+template <typename S>
+S roundedDown(double x)
+{
+  const S rounded = S(x);
+  return double(rounded) > x ? std::nextafter(rounded, -std::numeric_limits<S>::infinity()) : rounded;
+}
+
 /// |ta.t|_1 + |tb.t|_1: what an RS test between volumes posed by ta and tb adds for the world frame's rounding
 /// (as the tree traversals do).
 template <typename S>
@@ -434,17 +442,10 @@ struct SelfCollision<S>::Impl
   void placeSpheres(Placement& p) const
   {
     p.spheres.resize(links.size());
-    for (int i : paired_links) p.spheres[i] = placeSphere(p.poses[i], links[i].center, links[i].radius);
+    for (int i : paired_links) p.spheres[i] = detail::placeBall(p.poses[i], links[i].center, links[i].radius);
   }
 
-  static WorldSphere placeSphere(const Tf<S>& pose, const fcl::Vector3<S>& center, S radius)
-  {
-    return detail::placeBall(pose, center, radius);
-  }
-
-  static S sphereGap(const WorldSphere& a, const WorldSphere& b) { return detail::sphereGap(a, b); }
-
-  /// sphereGap(p, a, b) > 0, without the square root.
+  /// detail::spheresApart of links a's and b's placed spheres.
   static bool spheresApart(const Placement& p, int a, int b)
   {
     return detail::spheresApart(p.spheres[a], p.spheres[b]);
@@ -488,9 +489,7 @@ struct SelfCollision<S>::Impl
         triangle_shape::hullsLowerBound(a.points, pa, b.points, pb, start, double(enough) + shrink, &direction,
                                         relative_gap) -
         shrink;
-    // Rounded down to S.
-    const S rounded = S(bound);
-    return double(rounded) > bound ? std::nextafter(rounded, -std::numeric_limits<S>::infinity()) : rounded;
+    return roundedDown<S>(bound);
   }
 
   /// Whether links a and b collide, for links whose spheres overlap (spheresApart is the caller's: most pairs end
@@ -582,8 +581,8 @@ struct SelfCollision<S>::Impl
     std::vector<Candidate> waiting;
     waiting.reserve(2 * pairs.size());
     for (std::size_t i = 0; i < pairs.size(); ++i)
-      waiting.push_back({sphereGap(placement.spheres[pairs[i].first], placement.spheres[pairs[i].second]), int(i),
-                         0, 0, Stage::kLinkSpheres});
+      waiting.push_back({detail::sphereGap(placement.spheres[pairs[i].first], placement.spheres[pairs[i].second]),
+                         int(i), 0, 0, Stage::kLinkSpheres});
     return nearest(placement.poses, std::move(waiting), std::numeric_limits<S>::infinity(), /*measure=*/true);
   }
 
@@ -591,8 +590,8 @@ struct SelfCollision<S>::Impl
   S pairDistanceBound(const Tf<S>* poses, int pair, S enough, bool measure) const
   {
     const int a = pairs[pair].first, b = pairs[pair].second;
-    const S gap = sphereGap(placeSphere(poses[a], links[a].center, links[a].radius),
-                            placeSphere(poses[b], links[b].center, links[b].radius));
+    const S gap = detail::sphereGap(detail::placeBall(poses[a], links[a].center, links[a].radius),
+                                    detail::placeBall(poses[b], links[b].center, links[b].radius));
     return nearest(poses, {{gap, pair, 0, 0, Stage::kLinkSpheres}}, enough, measure);
   }
 
@@ -642,7 +641,8 @@ struct SelfCollision<S>::Impl
             {
               const Element& ea = la.elements[i];
               const Element& eb = lb.elements[j];
-              const S gap = sphereGap(placeSphere(ta, ea.center, ea.radius), placeSphere(tb, eb.center, eb.radius));
+              const S gap = detail::sphereGap(detail::placeBall(ta, ea.center, ea.radius),
+                                              detail::placeBall(tb, eb.center, eb.radius));
               wait({std::max(c.bound, gap), c.pair, i, j, Stage::kElementSpheres});
             }
           done = true;
@@ -949,9 +949,7 @@ S SelfCollision<S>::lowestAlong(int link, const fcl::Transform3<S>& pose, const 
         1024 * double(std::numeric_limits<S>::epsilon()) * (p.translation().template lpNorm<1>() + e.hull.reach);
     lowest = std::min(lowest, points.points()[i].dot(d) + offset - e.hull.radius - margin);
   }
-  // Rounded down to S.
-  const S rounded = S(lowest);
-  return double(rounded) > lowest ? std::nextafter(rounded, -std::numeric_limits<S>::infinity()) : rounded;
+  return roundedDown<S>(lowest);
 }
 
 template <typename S>
