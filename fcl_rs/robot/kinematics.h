@@ -106,30 +106,16 @@ public:
                                     std::to_string(q[i]));
     poses.resize(num_links_);
     if (num_links_ > 0) poses[0].setIdentity();
-    for (const Joint& j : joints_)
+    // The revolute joints' sines and cosines first, a batch of joints at a time: they do not depend on each other,
+    // so they are computed side by side instead of each waiting for its parent's pose.
+    constexpr std::size_t kBatch = 16;
+    double sines[kBatch], cosines[kBatch];  // read for the revolute joints only, which set them
+    for (std::size_t first = 0; first < joints_.size(); first += kBatch)
     {
-      // The joint's transform in its parent's frame, then one rotation and one translation into the root frame.
-      const fcl::Transform3<S>& parent = poses[j.parent];
-      fcl::Transform3<S>& pose = poses[j.child];
-      fcl::Vector3<S> translation = j.translation;
-      const S value = j.variable >= 0 ? j.multiplier * q[j.variable] + j.offset : S(0);
-      if (j.variable >= 0 && j.type != JointType::kPrismatic)
-      {
-        double sine, cosine;
-        detail::sinCos(double(value), sine, cosine);
-        const fcl::Matrix3<S> linear = j.linear + S(cosine) * j.cos_part + S(sine) * j.sin_part;
-        pose.linear().noalias() = parent.linear() * linear;
-      }
-      else
-      {
-        if (j.variable >= 0) translation += j.slide * value;
-        if (j.identity)  // the product would give the parent's rotation again
-          pose.linear() = parent.linear();
-        else
-          pose.linear().noalias() = parent.linear() * j.linear;
-      }
-      pose.translation().noalias() = parent.linear() * translation;
-      pose.translation() += parent.translation();
+      const std::size_t end = std::min(joints_.size(), first + kBatch);
+      for (std::size_t i = first; i < end; ++i)
+        if (joints_[i].rotates) detail::sinCos(double(value(joints_[i], q)), sines[i - first], cosines[i - first]);
+      for (std::size_t i = first; i < end; ++i) place(joints_[i], q, sines[i - first], cosines[i - first], poses);
     }
   }
 
@@ -154,13 +140,45 @@ public:
   }
 
 private:
+  struct Joint;
+
+  /// The joint's position: its variable's value scaled and offset (a mimic joint's), 0 for a fixed joint.
+  static S value(const Joint& j, const fcl::VectorX<S>& q)
+  {
+    return j.variable >= 0 ? j.multiplier * q[j.variable] + j.offset : S(0);
+  }
+
+  /// Sets the child's pose from its parent's: the joint's transform in the parent's frame, then one rotation and
+  /// one translation into the root frame. sine, cosine: of the joint's position, read for revolute joints only.
+  static void place(const Joint& j, const fcl::VectorX<S>& q, const double& sine, const double& cosine,
+                    std::vector<fcl::Transform3<S>>& poses)
+  {
+    const fcl::Transform3<S>& parent = poses[j.parent];
+    fcl::Transform3<S>& pose = poses[j.child];
+    fcl::Vector3<S> translation = j.translation;
+    if (j.rotates)
+    {
+      const fcl::Matrix3<S> linear = j.linear + S(cosine) * j.cos_part + S(sine) * j.sin_part;
+      pose.linear().noalias() = parent.linear() * linear;
+    }
+    else
+    {
+      if (j.variable >= 0) translation += j.slide * value(j, q);
+      if (j.identity)  // the product would give the parent's rotation again
+        pose.linear() = parent.linear();
+      else
+        pose.linear().noalias() = parent.linear() * j.linear;
+    }
+    pose.translation().noalias() = parent.linear() * translation;
+    pose.translation() += parent.translation();
+  }
+
   /// A joint with its origin O folded into the motion, so that a pose costs one rotation product. The child's
   /// frame in the parent's is O for a fixed joint, O * Translation(axis * v) for a prismatic one: linear O.R,
   /// translation O.t + slide v. For a revolute joint it is O * Rotation(axis, v), by Rodrigues' formula:
   /// linear + cos(v) cos_part + sin(v) sin_part, translation O.t.
   struct Joint
   {
-    JointType type;
     int parent, child;
     int variable;  ///< own variable, the leader's for a mimic joint, -1 for fixed joints
     S multiplier, offset;
@@ -169,6 +187,7 @@ private:
     fcl::Matrix3<S> cos_part, sin_part;  ///< O.R (I - a a^T) and O.R [a]x (revolute joints)
     fcl::Vector3<S> slide;  ///< O.R a (prismatic joints)
     bool identity;  ///< linear is the identity (a fixed or prismatic joint whose origin does not rotate)
+    bool rotates;  ///< a revolute or continuous joint with a variable
   };
 
   /// The joint's parts, computed in double (the model's precision) and rounded once to S.
@@ -181,7 +200,6 @@ private:
     cross << 0, -a[2], a[1], a[2], 0, -a[0], -a[1], a[0], 0;
     const fcl::Matrix3d along = R * (a * a.transpose());
     Joint joint;
-    joint.type = j.type;
     joint.parent = j.parent_link;
     joint.child = j.child_link;
     joint.variable = j.variable >= 0 ? j.variable : j.mimic_variable;
@@ -193,6 +211,7 @@ private:
     joint.sin_part = (R * cross).cast<S>();
     joint.slide = (R * a).cast<S>();
     joint.identity = joint.linear == fcl::Matrix3<S>::Identity();
+    joint.rotates = joint.variable >= 0 && revolute;
     return joint;
   }
 
