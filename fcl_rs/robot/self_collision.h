@@ -114,6 +114,12 @@ BodyHull<S> meshHull(const TriangleMesh<S>& mesh, bool* convex = nullptr);
 ///
 /// check, checkPoses and inCollision are not thread-safe (the KDOP18 trees and the poses are updated per check).
 /// query is: it only reads the checker, so many threads may share one (see fcl_rs/robot/batch_self_collision.h).
+namespace detail {
+/// What the robot layer's environment shares with the checker (src/robot/self_collision_internals.h).
+template <typename S>
+struct SelfCollisionInternals;
+}  // namespace detail
+
 template <typename S>
 class SelfCollision
 {
@@ -175,6 +181,7 @@ public:
   LinkSphere<S> linkSphere(int link) const;
 
 private:
+  friend struct detail::SelfCollisionInternals<S>;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

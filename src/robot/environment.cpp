@@ -24,6 +24,7 @@
 #include "../scalars.h"
 #include "../validated_entries.h"
 #include "body_hulls.h"
+#include "self_collision_internals.h"
 #include "world_balls.h"
 #include "fcl_rs/bv/rs_fit.h"
 #include "fcl_rs/bvh/build_model.h"
@@ -774,17 +775,19 @@ struct Environment<S>::Impl
     std::vector<Tf<S>>& poses = scratch.poses;
     self.kinematics().linkPoses(q, poses);
     EnvironmentResult<S> result;
+    // The links' balls serve the self check's culling and the obstacles'.
+    std::vector<WorldSphere<S>>& spheres = scratch.spheres;
+    placeLinks(poses, spheres);
     SelfCheckRequest self_request;
     self_request.colliding_pairs = request.colliding_pairs;
-    const SelfCheckResult<S> self_result = self.queryPoses(poses, self_request);
+    const SelfCheckResult<S> self_result =
+        detail::SelfCollisionInternals<S>::queryPlaced(self, poses, spheres, self_request);
     result.colliding = self_result.colliding;
     for (const LinkPair& p : self_result.pairs) result.pairs.push_back(selfPair(p));
     const bool stop_at_first = !request.colliding_pairs;
     if (result.colliding && stop_at_first && !request.minimum_distance) return result;
 
-    std::vector<WorldSphere<S>>& spheres = scratch.spheres;
     std::vector<int>& near = scratch.near;
-    placeLinks(poses, spheres);
     nearObstacles(spheres, near);
     if (!(result.colliding && stop_at_first))
       for (int link : geometric_links)

@@ -28,6 +28,7 @@
 #include "../scalars.h"
 #include "../validated_entries.h"
 #include "body_hulls.h"
+#include "self_collision_internals.h"
 #include "world_balls.h"
 #include "fcl_rs/bvh/build_model.h"
 #include "fcl_rs/bv/rs_fit.h"
@@ -433,16 +434,20 @@ struct SelfCollision<S>::Impl
   struct Placement
   {
     const Tf<S>* poses = nullptr;
-    std::vector<WorldSphere> spheres;
+    const WorldSphere* spheres = nullptr;  ///< per link: placed's, or the caller's (queryPlaced)
+    std::vector<WorldSphere> placed;
+    std::vector<int> near;  ///< the pairs whose spheres overlap (nearPairs)
   };
 
   Impl(const RobotModel& robot, BVType bv_type) : bv(bv_type), kinematics(robot) {}
 
-  /// Fills p.spheres from p.poses for the links of the pair list (the others' are left as they were).
+  /// Places p.placed's spheres at p.poses for the links of the pair list (the others' are left as they were) and
+  /// points p.spheres at them.
   void placeSpheres(Placement& p) const
   {
-    p.spheres.resize(links.size());
-    for (int i : paired_links) p.spheres[i] = detail::placeBall(p.poses[i], links[i].center, links[i].radius);
+    p.placed.resize(links.size());
+    for (int i : paired_links) p.placed[i] = detail::placeBall(p.poses[i], links[i].center, links[i].radius);
+    p.spheres = p.placed.data();
   }
 
   /// detail::spheresApart of links a's and b's placed spheres.
@@ -521,35 +526,70 @@ struct SelfCollision<S>::Impl
     return false;
   }
 
-  /// Places the spheres at placement.poses and tests the pair list.
+  /// Tests the pair list at placement's poses and spheres.
   std::vector<LinkPair> testPairs(Placement& placement, QueryStats* stats, bool stop_at_first) const
   {
-    placeSpheres(placement);
     trees->setPoses(placement.poses);
+    nearPairs(placement);
     std::vector<LinkPair> colliding;
     if (stop_at_first)
     {
       // Consecutive checks of a planner are near each other, so the pair that collided last often collides
       // again: it goes first.
       const int hint = last_hit.load(std::memory_order_relaxed);
-      if (hint >= 0 && pairCollides(placement, pairs[hint], stats)) return {pairs[hint]};
-      for (int i = 0; i < int(pairs.size()); ++i)
-        if (i != hint && pairCollides(placement, pairs[i], stats))
+      if (hint >= 0 && !spheresApart(placement, pairs[hint].first, pairs[hint].second) &&
+          collides(placement, pairs[hint].first, pairs[hint].second, stats))
+        return {pairs[hint]};
+      for (int i : placement.near)
+        if (i != hint && collides(placement, pairs[i].first, pairs[i].second, stats))
         {
           last_hit.store(i, std::memory_order_relaxed);
           return {pairs[i]};
         }
       return colliding;
     }
-    for (const LinkPair& p : pairs)
-      if (pairCollides(placement, p, stats)) colliding.push_back(p);
+    for (int i : placement.near)
+      if (collides(placement, pairs[i].first, pairs[i].second, stats)) colliding.push_back(pairs[i]);
     return colliding;
   }
 
-  /// The spheres' test, then collides for the few pairs it leaves.
-  bool pairCollides(const Placement& placement, const LinkPair& p, QueryStats* stats) const
+  /// Throws what queryPoses throws for its arguments.
+  void checkQuery(const std::vector<Tf<S>>& poses, const SelfCheckRequest& request) const
   {
-    return !spheresApart(placement, p.first, p.second) && collides(placement, p.first, p.second, stats);
+    if (bv == BVType::kKDOP18)
+      throw std::invalid_argument("fcl_rs::SelfCollision::query: KDOP18 trees are refitted in place per check, so "
+                                  "they cannot be shared; use check() or a BV type with local-frame trees");
+    if (request.minimum_distance && bv == BVType::kOBB)
+      throw std::invalid_argument("fcl_rs::SelfCollision::query: FCL has no distance query for OBB trees; "
+                                  "use RS, OBBRSS or RSS for minimum distances");
+    if (poses.size() != links.size())
+      throw std::invalid_argument("fcl_rs::SelfCollision::queryPoses: " + std::to_string(poses.size()) +
+                                  " poses for " + std::to_string(links.size()) + " links");
+  }
+
+  /// queryPoses's answer at placement's poses and spheres.
+  SelfCheckResult<S> query(Placement& placement, const SelfCheckRequest& request) const
+  {
+    SelfCheckResult<S> result;
+    result.pairs = testPairs(placement, nullptr, /*stop_at_first=*/!request.colliding_pairs);
+    result.colliding = !result.pairs.empty();
+    if (!request.colliding_pairs) result.pairs.clear();
+    if (request.minimum_distance) result.minimum_distance = result.colliding ? S(0) : minimumDistance(placement);
+    return result;
+  }
+
+  /// Sets p.near to the pairs whose spheres overlap, in list order, in one pass without a branch per pair: which
+  /// pairs overlap changes from one configuration to the next, so such a branch is often mispredicted.
+  void nearPairs(Placement& p) const
+  {
+    p.near.resize(pairs.size());
+    int count = 0;
+    for (int i = 0; i < int(pairs.size()); ++i)
+    {
+      p.near[count] = i;
+      count += !spheresApart(p, pairs[i].first, pairs[i].second);
+    }
+    p.near.resize(count);
   }
 
   /// A candidate of the minimum-distance search: a link pair, or one element pair of it, with a lower bound on
@@ -840,6 +880,7 @@ std::vector<LinkPair> SelfCollision<S>::check(const fcl::VectorX<S>& q, QuerySta
 {
   impl_->kinematics.linkPoses(q, impl_->poses);
   impl_->placement.poses = impl_->poses.data();
+  impl_->placeSpheres(impl_->placement);
   return impl_->testPairs(impl_->placement, stats, /*stop_at_first=*/false);
 }
 
@@ -851,6 +892,7 @@ std::vector<LinkPair> SelfCollision<S>::checkPoses(const std::vector<fcl::Transf
                                 std::to_string(impl_->links.size()) + " links");
   requireRigidTransforms(poses, "fcl_rs::SelfCollision::checkPoses", "poses");
   impl_->placement.poses = poses.data();
+  impl_->placeSpheres(impl_->placement);
   return impl_->testPairs(impl_->placement, stats, /*stop_at_first=*/false);
 }
 
@@ -859,6 +901,7 @@ bool SelfCollision<S>::inCollision(const fcl::VectorX<S>& q)
 {
   impl_->kinematics.linkPoses(q, impl_->poses);
   impl_->placement.poses = impl_->poses.data();
+  impl_->placeSpheres(impl_->placement);
   return !impl_->testPairs(impl_->placement, nullptr, /*stop_at_first=*/true).empty();
 }
 
@@ -874,25 +917,25 @@ template <typename S>
 SelfCheckResult<S> SelfCollision<S>::queryPoses(const std::vector<fcl::Transform3<S>>& poses,
                                                 const SelfCheckRequest& request) const
 {
-  if (impl_->bv == BVType::kKDOP18)
-    throw std::invalid_argument("fcl_rs::SelfCollision::query: KDOP18 trees are refitted in place per check, so "
-                                "they cannot be shared; use check() or a BV type with local-frame trees");
-  if (request.minimum_distance && impl_->bv == BVType::kOBB)
-    throw std::invalid_argument("fcl_rs::SelfCollision::query: FCL has no distance query for OBB trees; "
-                                "use RS, OBBRSS or RSS for minimum distances");
-  if (poses.size() != impl_->links.size())
-    throw std::invalid_argument("fcl_rs::SelfCollision::queryPoses: " + std::to_string(poses.size()) +
-                                " poses for " + std::to_string(impl_->links.size()) + " links");
   // Per thread, so that a query allocates nothing once its thread has run one (a planner makes millions).
   static thread_local typename Impl::Placement placement;
+  impl_->checkQuery(poses, request);
   placement.poses = poses.data();
-  SelfCheckResult<S> result;
-  result.pairs = impl_->testPairs(placement, nullptr, /*stop_at_first=*/!request.colliding_pairs);
-  result.colliding = !result.pairs.empty();
-  if (!request.colliding_pairs) result.pairs.clear();
-  if (request.minimum_distance)
-    result.minimum_distance = result.colliding ? S(0) : impl_->minimumDistance(placement);
-  return result;
+  impl_->placeSpheres(placement);
+  return impl_->query(placement, request);
+}
+
+template <typename S>
+SelfCheckResult<S> detail::SelfCollisionInternals<S>::queryPlaced(const SelfCollision<S>& self,
+                                                                  const std::vector<fcl::Transform3<S>>& poses,
+                                                                  const std::vector<WorldSphere<S>>& spheres,
+                                                                  const SelfCheckRequest& request)
+{
+  static thread_local typename SelfCollision<S>::Impl::Placement placement;  // as queryPoses's
+  self.impl_->checkQuery(poses, request);
+  placement.poses = poses.data();
+  placement.spheres = spheres.data();
+  return self.impl_->query(placement, request);
 }
 
 template <typename S>
@@ -981,8 +1024,9 @@ LinkSphere<S> SelfCollision<S>::linkSphere(int link) const
   return {impl_->links[link].center, impl_->links[link].radius};
 }
 
-#define FCL_RS_INSTANTIATE_SELF_COLLISION(S) \
-  template class SelfCollision<S>;           \
+#define FCL_RS_INSTANTIATE_SELF_COLLISION(S)        \
+  template class SelfCollision<S>;                  \
+  template struct detail::SelfCollisionInternals<S>; \
   template BodyHull<S> meshHull(const TriangleMesh<S>&, bool*);
 FCL_RS_FOR_EACH_SCALAR(FCL_RS_INSTANTIATE_SELF_COLLISION)
 #undef FCL_RS_INSTANTIATE_SELF_COLLISION
