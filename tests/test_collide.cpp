@@ -983,10 +983,11 @@ TYPED_TEST(CollideMeshShape, LoopMatchesFclsDriverOnContactsAndCosts)
   EXPECT_GE(with_costs, 10);
 }
 
-/// The shape's own-frame RS comes from a per-thread cache (fcl_rs::ownFrameRS): a shape object resized between
+/// A shape's own-frame RS comes from a per-thread cache (fcl_rs::ownFrameRS): a shape object resized between
 /// queries, or a new shape of another size at the address of a freed one, must be tested with its new volume,
 /// never the cached one. A small shape in the torus's hole meets nothing; the large one at the same place cuts
-/// the ring: with a stale volume its node tests would prune every triangle.
+/// the ring: with a stale volume its node tests would prune every triangle. (The traversal's node tests of boxes,
+/// capsules and cylinders read the shape itself, ShapeBound; the cache still serves ownFrameRS's callers.)
 TYPED_TEST(CollideMeshShape, ResizedOrReallocatedShapeIsRefitted)
 {
   using S = TypeParam;
