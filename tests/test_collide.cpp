@@ -983,10 +983,11 @@ TYPED_TEST(CollideMeshShape, LoopMatchesFclsDriverOnContactsAndCosts)
   EXPECT_GE(with_costs, 10);
 }
 
-/// The shape's own-frame RS comes from a per-thread cache (fcl_rs::ownFrameRS): a shape object resized between
+/// A shape's own-frame RS comes from a per-thread cache (fcl_rs::ownFrameRS): a shape object resized between
 /// queries, or a new shape of another size at the address of a freed one, must be tested with its new volume,
 /// never the cached one. A small shape in the torus's hole meets nothing; the large one at the same place cuts
-/// the ring: with a stale volume its node tests would prune every triangle.
+/// the ring: with a stale volume its node tests would prune every triangle. (The traversal's node tests of boxes,
+/// capsules and cylinders read the shape itself, ShapeBound; the cache still serves ownFrameRS's callers.)
 TYPED_TEST(CollideMeshShape, ResizedOrReallocatedShapeIsRefitted)
 {
   using S = TypeParam;
@@ -1027,6 +1028,118 @@ TYPED_TEST(CollideMeshShape, ResizedOrReallocatedShapeIsRefitted)
   EXPECT_TRUE(collides(*cylinder)) << "a cylinder at a freed cylinder's address was tested with its volume";
   fcl::computeBV(*cylinder, tf, fitted);
   EXPECT_TRUE(sameSlabs(fcl_rs::ownFrameRS(*cylinder), fitted));
+}
+
+/// How a node bound fared over a tree: nodes tested, nodes holding a triangle the leaf test reports, nodes pruned,
+/// and nodes pruned although they hold such a triangle (the failures).
+struct BoundTally
+{
+  int nodes = 0, meeting = 0, pruned = 0, wrongly_pruned = 0;
+};
+
+/// Every node of mesh's tree against the shape's ShapeBound, as the traversal sets it up (coverLeaves with the leaf's
+/// offsets): a node holding a triangle the leaf test reports (TriangleShapeLeaf::meets) must never be pruned.
+template <typename S, typename Shape>
+void checkBoundPrunesNoReportedTriangle(const Mesh<S>& mesh, const fcl::Transform3<S>& tf_mesh, const Shape& shape,
+                                        const fcl::Transform3<S>& tf_shape, const std::string& label,
+                                        BoundTally& tally)
+{
+  const fcl::BVHModel<fcl_rs::RS<S>>& model = *mesh.rs;
+  const fcl_rs::TriangleShapeLeaf<Shape> leaf(shape, tf_mesh, tf_shape);
+  fcl_rs::ShapeBound<S, Shape> bound(shape, tf_mesh.inverse(Eigen::Isometry) * tf_shape);
+  bound.coverLeaves(fcl_rs::detail::leafBoundOffsets(model, leaf));
+  const auto meets = [&](const auto& self, int b) -> bool {
+    const fcl::BVNode<fcl_rs::RS<S>>& node = model.getBV(b);
+    bool any;
+    if (fcl_rs::isLeaf(node))
+      any = leaf.meets(fcl_rs::triangleVertices(model.vertices, model.tri_indices[fcl_rs::primitiveId(node)]).data());
+    else
+      any = self(self, fcl_rs::leftChild(node)) | self(self, fcl_rs::rightChild(node));
+    const bool kept = bound.overlaps(node.bv);
+    ++tally.nodes;
+    tally.meeting += any;
+    tally.pruned += !kept;
+    if (any && !kept && tally.wrongly_pruned++ < 5)
+      ADD_FAILURE() << label << ": node " << b << " pruned, but the leaf test reports a triangle in it";
+    return any;
+  };
+  meets(meets, 0);
+}
+
+/// A seeded box, capsule or cylinder of size about `size`, thin or long now and then (plates, needles, discs; a
+/// capsule now and then without length, a sphere).
+template <typename Shape, typename S, typename Rng>
+Shape randomSupportShape(Rng& rng, S size)
+{
+  std::uniform_real_distribution<double> u(0, 1);
+  const auto extent = [&] { return S(size * (u(rng) < 0.2 ? 0.01 : 0.1 + u(rng))); };
+  if constexpr (std::is_same_v<Shape, fcl::Box<S>>)
+    return Shape(extent(), extent(), extent());
+  else
+    return Shape(extent() / 2, std::is_same_v<Shape, fcl::Capsule<S>> && u(rng) < 0.1 ? S(0) : extent());
+}
+
+/// The node tests of a box, capsule or cylinder (ShapeBound's support on a node's nine slabs and the shape's own axes
+/// against its box) are conservative: they never prune a node whose triangles the leaf test would report. Seeded poses
+/// near the mesh, a quarter of them far from the origin (where the poses' translations dominate both tolerances), then
+/// grazing ones: the shape slid along a random direction to where the leaf test only just reports a triangle, i.e.
+/// at the leaf's tolerance, which the node test must cover with its own rounding.
+template <typename S, typename Shape>
+void checkSupportBound(const Mesh<S>& mesh, const std::string& kind)
+{
+  const std::string what = "collide/support-bound/" + mesh.name + "/" + kind + "/" + scalarName<S>();
+  auto rng = fcl_rs::test::seededRng(what);
+  BoundTally tally, grazing;
+  int grazing_poses = 0;
+  for (int i = 0; i < 120 && tally.wrongly_pruned + grazing.wrongly_pruned == 0; ++i)
+  {
+    const Shape shape = randomSupportShape<Shape>(rng, mesh.radius);
+    fcl::Transform3<S> tf_mesh = fcl_rs::test::randomPose<S>(rng, 2 * mesh.radius);
+    if (i % 4 == 3) tf_mesh.translation() *= S(500);
+    fcl::Transform3<S> tf_shape = fcl_rs::test::randomPose<S>(rng, S(0.8) * mesh.radius);
+    tf_shape.translation() += tf_mesh * mesh.center;
+    const std::string label = what + " pose #" + std::to_string(i);
+    checkBoundPrunesNoReportedTriangle(mesh, tf_mesh, shape, tf_shape, label, tally);
+    if (i % 2) continue;
+    const fcl_rs::TriangleShapeLeaf<Shape> leaf0(shape, tf_mesh, tf_shape);
+    const fcl::Vector3<S> dir = fcl_rs::test::randomRotation<S>(rng).col(0);
+    const auto at = [&](S s) {
+      fcl::Transform3<S> tf = tf_shape;
+      tf.translation() += s * dir;
+      return tf;
+    };
+    const auto touching = [&](S s) {
+      const fcl_rs::TriangleShapeLeaf<Shape> leaf(shape, tf_mesh, at(s));
+      for (const fcl::Triangle& t : mesh.tri.triangles)
+        if (leaf.meets(fcl_rs::triangleVertices(mesh.tri.vertices.data(), t).data())) return true;
+      return false;
+    };
+    const S far = 3 * mesh.radius + 2 * S(leaf0.geometry().reach());
+    if (!touching(0) || touching(far)) continue;
+    ++grazing_poses;
+    checkBoundPrunesNoReportedTriangle(mesh, tf_mesh, shape, at(bisectBoundary<S>(0, far, touching).first),
+                                       label + " grazing", grazing);
+  }
+  std::cout << "[collide] " << what << ": " << tally.nodes << " nodes, " << tally.meeting << " meeting, "
+            << tally.pruned << " pruned; grazing (" << grazing_poses << " poses) " << grazing.nodes << " nodes, "
+            << grazing.meeting << " meeting, " << grazing.pruned << " pruned\n";
+  EXPECT_EQ(tally.wrongly_pruned + grazing.wrongly_pruned, 0);
+  EXPECT_GE(grazing_poses, 25) << what << ": too few grazing poses";
+  EXPECT_GE(grazing.meeting, grazing_poses) << what << ": the grazing poses report no triangle";
+  EXPECT_GE(tally.pruned, tally.nodes / 4) << what << ": the bound prunes too little to tell anything";
+}
+
+TYPED_TEST(CollideMeshShape, BoxCapsuleCylinderNodeTestsPruneNoReportedTriangle)
+{
+  using S = TypeParam;
+  const auto torus = prepare<S>("torus", fcl_rs::makeTorus<S>(1, S(0.3)));
+  checkSupportBound<S, fcl::Box<S>>(torus, "box");
+  checkSupportBound<S, fcl::Capsule<S>>(torus, "capsule");
+  checkSupportBound<S, fcl::Cylinder<S>>(torus, "cylinder");
+  REQUIRE_SHARED(link1, S, "robots/panda/meshes/collision/link1.stl", S(1));
+  checkSupportBound<S, fcl::Box<S>>(link1, "box");
+  checkSupportBound<S, fcl::Capsule<S>>(link1, "capsule");
+  checkSupportBound<S, fcl::Cylinder<S>>(link1, "cylinder");
 }
 
 // ---------------------------------------------------------------------------------------------------------------

@@ -2,12 +2,17 @@
 #ifndef FCL_RS_TRAVERSAL_H
 #define FCL_RS_TRAVERSAL_H
 
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/cylinder.h>
 #include <fcl/geometry/shape/halfspace.h>
 #include <fcl/geometry/shape/plane.h>
 #include <fcl/geometry/shape/sphere.h>
@@ -188,13 +193,14 @@ void collideTrees(MeshCollisionTraversalNodeRS<S>& node)
 }
 
 /// How a shape is tested against the mesh's nodes: its RS in its own frame, moved into the mesh's frame once per
-/// query (BoxedFrame, as a mesh-mesh traversal moves the second tree's nodes), neither refitted nor placed.
+/// query (BoxedFrame, as a mesh-mesh traversal moves the second tree's nodes), neither refitted nor placed. Planes,
+/// halfspaces, spheres, boxes, capsules and cylinders have specialisations below that read the shape itself.
 template <typename S, typename Shape>
 class ShapeBound
 {
 public:
-  /// With the shape's own-frame RS from ownFrameRS's per-thread cache where it has one (a box, ellipsoid, capsule
-  /// or cylinder), else fitted here.
+  /// With the shape's own-frame RS from ownFrameRS's per-thread cache where it has one (an ellipsoid), else fitted
+  /// here.
   ShapeBound(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh) : ShapeBound(fitted(shape), shape_in_mesh) {}
   /// From the shape's RS fitted in its own frame (fcl::computeBV with the identity), for a shape queried many
   /// times.
@@ -279,6 +285,146 @@ private:
   fcl::Vector3<S> centre_;  ///< in the mesh's frame
   S radius_;
   S offset_;  ///< |centre_|_1
+};
+
+namespace detail {
+
+/// The support radius of a box, capsule or cylinder (its own frame: centred at the origin, axis along z) along
+/// directions given, one per lane, by their dots x, y, z with the shape's axes (signs ignored), for directions of
+/// length `norm`; and its support along each of its own axes (`own`, lanes 0-2).
+template <typename Shape>
+struct CentredSupport;
+
+template <typename S>
+struct CentredSupport<fcl::Box<S>>
+{
+  explicit CentredSupport(const fcl::Box<S>& box)
+    : own(float(box.side[0] / 2), float(box.side[1] / 2), float(box.side[2] / 2), 0.0f)
+  {
+  }
+  Lanes operator()(const Lanes& x, const Lanes& y, const Lanes& z, float) const
+  {
+    return x.abs() * own[0] + y.abs() * own[1] + z.abs() * own[2];
+  }
+  Lanes own;
+};
+
+template <typename S>
+struct CentredSupport<fcl::Capsule<S>>
+{
+  explicit CentredSupport(const fcl::Capsule<S>& capsule)
+    : half_length(float(capsule.lz / 2)), radius(float(capsule.radius)),
+      own(radius, radius, half_length + radius, 0.0f)
+  {
+  }
+  Lanes operator()(const Lanes&, const Lanes&, const Lanes& z, float norm) const
+  {
+    return z.abs() * half_length + radius * norm;
+  }
+  float half_length, radius;
+  Lanes own;
+};
+
+template <typename S>
+struct CentredSupport<fcl::Cylinder<S>>
+{
+  explicit CentredSupport(const fcl::Cylinder<S>& cylinder)
+    : half_length(float(cylinder.lz / 2)), radius(float(cylinder.radius)), own(radius, radius, half_length, 0.0f)
+  {
+  }
+  /// The disc's part from the direction's component across the axis, (x, y), not from sqrt(norm^2 - z^2), which
+  /// loses all precision where the direction is nearly along the axis.
+  Lanes operator()(const Lanes& x, const Lanes& y, const Lanes& z, float) const
+  {
+    return z.abs() * half_length + radius * (x * x + y * y).sqrt();
+  }
+  float half_length, radius;
+  Lanes own;
+};
+
+/// A box, capsule or cylinder tested against a node as the boxed test (boxedOverlap) tests two volumes, with the
+/// shape's exact support in place of the second volume's principal box: the node's nine slabs against the shape's
+/// support along them, the shape's three axes against the node's principal box. No volume is fitted or moved for
+/// the shape, its slabs are never tested (a box's own volume has no diagonal cuts), and the node's slabs see the
+/// shape itself, not a polytope around it. The arithmetic and so the rounding bound are the boxed test's: the
+/// shape's support along a unit direction is at most its reach (the largest of `own`) times the L1 norm of the
+/// direction's dots with its axes, as a box's is, and its axes and sizes are rounded to float as a stored volume's
+/// are (to nearest, half a float ulp of the reach, far inside the bound's storage term).
+template <typename S, typename Shape>
+class SupportBound
+{
+public:
+  SupportBound(const Shape& shape, const fcl::Transform3<S>& shape_in_mesh)
+    : support_(shape), centre_(shape_in_mesh.translation()), offsets_(centre_.template lpNorm<1>()),
+      reach_(S(support_.own.template head<3>().maxCoeff()))
+  {
+    const fcl::Matrix3<S>& axes = shape_in_mesh.linear();
+    for (int k = 0; k < 3; ++k)
+      axis_rows_[k] = Lanes(float(axes(k, 0)), float(axes(k, 1)), float(axes(k, 2)), 0.0f);
+  }
+  /// Flattened, as boxedOverlap is inlined by force: so that the node's side stays in registers and the parts of
+  /// BoxedDiagonals this test never reads are not computed.
+  __attribute__((flatten)) bool overlaps(const RS<S>& node) const
+  {
+    const BoxedAxes<S> a(axis_rows_, node);
+    const fcl::Vector3<S> delta = centre_ - a.origin;  // in S: both may be far from the model origin
+    const Lanes centre = float(delta[0]) * a.a_rows[0] + float(delta[1]) * a.a_rows[1] + float(delta[2]) * a.a_rows[2];
+    const Lanes d = centre - a.c1;  // from the node's box centre to the shape's centre, the node's frame
+    const float tol = storedPairRoundingBound<S>(offsets_ + a.origin_norm, a.reach + reach_,
+                                                 S(d.abs().template head<3>().sum()), delta.template lpNorm<1>());
+    // Along the node's axis i the shape reaches its support of (M_i0, M_i1, M_i2), lane i of w[0], w[1], w[2].
+    const Lanes gap1 = d.abs() - support_(a.w[0], a.w[1], a.w[2], 1.0f) - a.h1;
+    if (gap1.template head<3>().maxCoeff() > tol) return false;
+    const Lanes e = -(d[0] * a.m[0] + d[1] * a.m[1] + d[2] * a.m[2]);  // to the node's box centre, the shape's frame
+    const Lanes& h1 = a.h1;
+    const Lanes gap2 = e.abs() - (a.m[0].abs() * h1[0] + a.m[1].abs() * h1[1] + a.m[2].abs() * h1[2]) - support_.own;
+    if (gap2.template head<3>().maxCoeff() > tol) return false;
+    // The node's diagonals, sqrt(2) times (its directions u_i +- u_j, of length sqrt(2)), as boxedOverlap's; unused
+    // lanes give 0 - 0 - a radius, never above the tolerance.
+    const BoxedDiagonals<S> dg(a, node);
+    Lanes centre_diagonal[2];
+    diagonalLanes(centre, centre_diagonal[0], centre_diagonal[1]);
+    Lanes worst = Lanes::Constant(-std::numeric_limits<float>::max());
+    for (int h = 0; h < 2; ++h)
+    {
+      const Lanes radius = support_(dg.w_diagonal[0][h], dg.w_diagonal[1][h], dg.w_diagonal[2][h], float(M_SQRT2));
+      worst = worst.max((centre_diagonal[h] - dg.mid1[h]).abs() - dg.half1[h] - radius);
+    }
+    return !(worst.maxCoeff() > float(M_SQRT2) * tol);
+  }
+
+  /// As ShapeBound's: the leaf test's tolerance terms join the offsets.
+  void coverLeaves(S offsets) { offsets_ += offsets; }
+
+private:
+  CentredSupport<Shape> support_;
+  Lanes axis_rows_[3];      ///< rows of the shape's rotation in the mesh's frame, as BoxedFrame::axis_rows
+  fcl::Vector3<S> centre_;  ///< in the mesh's frame
+  S offsets_;               ///< |centre_|_1 (+ the leaf's offsets)
+  S reach_;
+};
+
+}  // namespace detail
+
+template <typename S>
+class ShapeBound<S, fcl::Box<S>> : public detail::SupportBound<S, fcl::Box<S>>
+{
+public:
+  using detail::SupportBound<S, fcl::Box<S>>::SupportBound;
+};
+
+template <typename S>
+class ShapeBound<S, fcl::Capsule<S>> : public detail::SupportBound<S, fcl::Capsule<S>>
+{
+public:
+  using detail::SupportBound<S, fcl::Capsule<S>>::SupportBound;
+};
+
+template <typename S>
+class ShapeBound<S, fcl::Cylinder<S>> : public detail::SupportBound<S, fcl::Cylinder<S>>
+{
+public:
+  using detail::SupportBound<S, fcl::Cylinder<S>>::SupportBound;
 };
 
 /// Mesh-shape collision in the mesh's frame: the shape is bounded once per query in that frame;
@@ -409,11 +555,11 @@ bool collidePlacedShape(const fcl::BVHModel<RS<typename Shape::S>>& mesh, const 
   if (!overlap(R, T, mesh.getBV(0).bv, bv_in_shape, kDefaultOverlapTest, offsets))
     return false;
   MeshShapeCollisionTraversalNodeRS<Shape, NarrowPhaseSolver> node;
-  if constexpr (std::is_same<Shape, fcl::Sphere<S>>::value)  // its bound needs no fitted volume
-    initialize(node, mesh, tf_mesh, shape, tf_shape, &solver, request, result);
-  else
+  if constexpr (std::is_constructible_v<ShapeBound<S, Shape>, const RS<S>&, const fcl::Transform3<S>&>)
     initialize(node, mesh, tf_mesh, shape, tf_shape, &solver, request, result,
                std::optional<ShapeBound<S, Shape>>(std::in_place, bv_in_shape, shape_in_mesh));
+  else  // a bound that reads the shape itself (ShapeBound's specialisations) needs no fitted volume
+    initialize(node, mesh, tf_mesh, shape, tf_shape, &solver, request, result);
   collideMeshShape(node);
   return result.isCollision();
 }
