@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <functional>
 #include <ctime>
 #include <iostream>
@@ -489,9 +490,7 @@ int compareMotions(const std::string& urdf, const std::string& srdf, int count, 
   return wrong == 0 ? 0 : 1;
 }
 
-}  // namespace
-
-int main(int argc, char** argv)
+int run(int argc, char** argv)
 {
   if (argc < 3)
   {
@@ -551,4 +550,20 @@ int main(int argc, char** argv)
   const fcl_rs::MotionResult<double> whole = env.checkPath(waypoints);
   std::cout << "path re-checked: " << (whole.colliding ? "COLLIDES" : "free") << "\n";
   return whole.colliding ? 1 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  // Bad arguments and unreadable robots end with their message, not with std::terminate's abort.
+  try
+  {
+    return run(argc, argv);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << argv[0] << ": " << e.what() << "\n";
+    return 2;
+  }
 }
