@@ -83,6 +83,12 @@ struct BodyHull
 template <typename S>
 BodyHull<S> meshHull(const TriangleMesh<S>& mesh, bool* convex = nullptr);
 
+namespace detail {
+/// What the robot layer's environment shares with the checker (src/robot/self_collision_internals.h).
+template <typename S>
+struct SelfCollisionInternals;
+}  // namespace detail
+
 /// Self-collision checker for one robot and one BV type.
 ///
 /// Every link with collision geometry gets one BVHModel<BV> holding all its <mesh> elements, plus one FCL shape
@@ -114,12 +120,6 @@ BodyHull<S> meshHull(const TriangleMesh<S>& mesh, bool* convex = nullptr);
 ///
 /// check, checkPoses and inCollision are not thread-safe (the KDOP18 trees and the poses are updated per check).
 /// query is: it only reads the checker, so many threads may share one (see fcl_rs/robot/batch_self_collision.h).
-namespace detail {
-/// What the robot layer's environment shares with the checker (src/robot/self_collision_internals.h).
-template <typename S>
-struct SelfCollisionInternals;
-}  // namespace detail
-
 template <typename S>
 class SelfCollision
 {

@@ -441,6 +441,14 @@ struct SelfCollision<S>::Impl
 
   Impl(const RobotModel& robot, BVType bv_type) : bv(bv_type), kinematics(robot) {}
 
+  /// The placement of queryPoses and queryPlaced, per thread, so that a query allocates nothing once its thread has
+  /// run one (a planner makes millions).
+  static Placement& threadPlacement()
+  {
+    static thread_local Placement placement;
+    return placement;
+  }
+
   /// Places p.placed's spheres at p.poses for the links of the pair list (the others' are left as they were) and
   /// points p.spheres at them.
   void placeSpheres(Placement& p) const
@@ -917,8 +925,7 @@ template <typename S>
 SelfCheckResult<S> SelfCollision<S>::queryPoses(const std::vector<fcl::Transform3<S>>& poses,
                                                 const SelfCheckRequest& request) const
 {
-  // Per thread, so that a query allocates nothing once its thread has run one (a planner makes millions).
-  static thread_local typename Impl::Placement placement;
+  typename Impl::Placement& placement = Impl::threadPlacement();
   impl_->checkQuery(poses, request);
   placement.poses = poses.data();
   impl_->placeSpheres(placement);
@@ -931,7 +938,7 @@ SelfCheckResult<S> detail::SelfCollisionInternals<S>::queryPlaced(const SelfColl
                                                                   const std::vector<WorldSphere<S>>& spheres,
                                                                   const SelfCheckRequest& request)
 {
-  static thread_local typename SelfCollision<S>::Impl::Placement placement;  // as queryPoses's
+  typename SelfCollision<S>::Impl::Placement& placement = SelfCollision<S>::Impl::threadPlacement();
   self.impl_->checkQuery(poses, request);
   placement.poses = poses.data();
   placement.spheres = spheres.data();
