@@ -153,24 +153,26 @@ private:
   static void place(const Joint& j, const fcl::VectorX<S>& q, const double& sine, const double& cosine,
                     std::vector<fcl::Transform3<S>>& poses)
   {
-    const fcl::Transform3<S>& parent = poses[j.parent];
-    fcl::Transform3<S>& pose = poses[j.child];
+    // On the poses' 4 x 4 matrices, whose last rows stay (0, 0, 0, 1): whole columns are products of the parent's
+    // with 3-vectors, which vectorise without the 3-row blocks' odd lengths.
+    const auto& parent = poses[j.parent].matrix();
+    auto& pose = poses[j.child].matrix();
+    const auto parent_rotation = parent.template leftCols<3>();
     fcl::Vector3<S> translation = j.translation;
     if (j.rotates)
     {
       const fcl::Matrix3<S> linear = j.linear + S(cosine) * j.cos_part + S(sine) * j.sin_part;
-      pose.linear().noalias() = parent.linear() * linear;
+      pose.template leftCols<3>().noalias() = parent_rotation.lazyProduct(linear);
     }
     else
     {
       if (j.variable >= 0) translation += j.slide * value(j, q);
       if (j.identity)  // the product would give the parent's rotation again
-        pose.linear() = parent.linear();
+        pose.template leftCols<3>() = parent_rotation;
       else
-        pose.linear().noalias() = parent.linear() * j.linear;
+        pose.template leftCols<3>().noalias() = parent_rotation.lazyProduct(j.linear);
     }
-    pose.translation().noalias() = parent.linear() * translation;
-    pose.translation() += parent.translation();
+    pose.col(3).noalias() = parent_rotation.lazyProduct(translation) + parent.col(3);
   }
 
   /// A joint with its origin O folded into the motion, so that a pose costs one rotation product. The child's
