@@ -436,7 +436,8 @@ struct SelfCollision<S>::Impl
     const Tf<S>* poses = nullptr;
     const WorldSphere* spheres = nullptr;  ///< per link: placed's, or the caller's (queryPlaced)
     std::vector<WorldSphere> placed;
-    std::vector<int> near;  ///< the pairs whose spheres overlap (nearPairs)
+    std::vector<int> near;  ///< the pairs whose spheres overlap: the first near_count entries (nearPairs)
+    int near_count = 0;
   };
 
   Impl(const RobotModel& robot, BVType bv_type) : bv(bv_type), kinematics(robot) {}
@@ -548,16 +549,18 @@ struct SelfCollision<S>::Impl
       if (hint >= 0 && !spheresApart(placement, pairs[hint].first, pairs[hint].second) &&
           collides(placement, pairs[hint].first, pairs[hint].second, stats))
         return {pairs[hint]};
-      for (int i : placement.near)
-        if (i != hint && collides(placement, pairs[i].first, pairs[i].second, stats))
+      for (int k = 0; k < placement.near_count; ++k)
+        if (const int i = placement.near[std::size_t(k)];
+            i != hint && collides(placement, pairs[i].first, pairs[i].second, stats))
         {
           last_hit.store(i, std::memory_order_relaxed);
           return {pairs[i]};
         }
       return colliding;
     }
-    for (int i : placement.near)
-      if (collides(placement, pairs[i].first, pairs[i].second, stats)) colliding.push_back(pairs[i]);
+    for (int k = 0; k < placement.near_count; ++k)
+      if (const int i = placement.near[std::size_t(k)]; collides(placement, pairs[i].first, pairs[i].second, stats))
+        colliding.push_back(pairs[i]);
     return colliding;
   }
 
@@ -587,17 +590,18 @@ struct SelfCollision<S>::Impl
   }
 
   /// Sets p.near to the pairs whose spheres overlap, in list order, in one pass without a branch per pair: which
-  /// pairs overlap changes from one configuration to the next, so such a branch is often mispredicted.
+  /// pairs overlap changes from one configuration to the next, so such a branch is often mispredicted. p.near
+  /// keeps its length (sizing it per check cost as much as the pass).
   void nearPairs(Placement& p) const
   {
-    p.near.resize(pairs.size());
+    if (p.near.size() < pairs.size()) p.near.resize(pairs.size());
     int count = 0;
     for (int i = 0; i < int(pairs.size()); ++i)
     {
-      p.near[count] = i;
+      p.near[std::size_t(count)] = i;
       count += !spheresApart(p, pairs[i].first, pairs[i].second);
     }
-    p.near.resize(count);
+    p.near_count = count;
   }
 
   /// A candidate of the minimum-distance search: a link pair, or one element pair of it, with a lower bound on
