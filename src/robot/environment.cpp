@@ -1069,12 +1069,19 @@ struct Environment<S>::Impl
           remaining.push_back(i);
           continue;
         }
-        refine(a, pairs[i], i, m, pad, result);
-        if (a.colliding) return collision(a.t);
-        if (m < a.bound[i] + b.bound[i]) continue;
-        refine(b, pairs[i], i, m, pad, result);
-        if (m < a.bound[i] + b.bound[i]) continue;
-        remaining.push_back(i);
+        // Each end is asked only for what the other end's bound leaves of the motion (a pad more, so that a bound
+        // that just reaches it covers): a bound search stops sooner the less it is asked for. The end with the
+        // smaller bound goes first, asked for the least.
+        Sample* ends[2] = {&a, &b};
+        if (b.bound[i] < a.bound[i]) std::swap(ends[0], ends[1]);
+        bool holds = false;
+        for (int e = 0; e < 2 && !holds; ++e)
+        {
+          refine(*ends[e], pairs[i], i, m - ends[1 - e]->bound[i] + pad, pad, result);
+          if (a.colliding) return collision(a.t);
+          holds = m < a.bound[i] + b.bound[i];
+        }
+        if (!holds) remaining.push_back(i);
       }
       if (remaining.empty())
       {
