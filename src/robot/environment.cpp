@@ -332,6 +332,7 @@ struct Environment<S>::Impl
                             ///< an octree's: its occupied cells')
     fcl::AABB<S> world_box;  ///< box at pose, in the root frame's axes (placeCulling)
     bool aligned = false;    ///< pose does not rotate, so world_box is box moved
+    bool box_in_ball = false;  ///< the ball holds the box (a shape's), so the box gap is never below the balls'
     std::optional<Flat<S>> flat;  ///< a plane or halfspace, placed at pose (its sphere then holds everything)
     /// In an RS environment: the mesh's tree, or a shape's RS fitted once in its own frame (placed per query, so
     /// setPose keeps it), for the direct paths of linkHitsObstacle; unset otherwise.
@@ -597,6 +598,8 @@ struct Environment<S>::Impl
       o.body.radius = o.geometry->aabb_radius;
     }
     o.body.radius *= S(1 + 1e-6);
+    o.box_in_ball = (o.box.max_ - o.body.center).norm() <= o.body.radius &&
+                    (o.box.min_ - o.body.center).norm() <= o.body.radius;
     o.body.elements.push_back({o.geometry.get(), Tf<S>::Identity()});
     placeCulling(o);
   }
@@ -663,10 +666,13 @@ struct Environment<S>::Impl
   }
 
   /// The gap between a link's ball and the obstacle's own box (the ball's centre moved into the obstacle's
-  /// frame): tighter than the balls' for slabs such as tables and for an octree's occupied cells.
+  /// frame, or for a pose that does not rotate the box moved, world_box): tighter than the balls' for slabs such as
+  /// tables and for an octree's occupied cells.
   static S boxGap(const WorldSphere<S>& ball, const Obstacle& o)
   {
-    return std::sqrt(squaredOutside(o.box, o.from_world * ball.centre)) - ball.reach * S(1 + 1e-5);
+    const S outside =
+        o.aligned ? squaredOutside(o.world_box, ball.centre) : squaredOutside(o.box, o.from_world * ball.centre);
+    return std::sqrt(outside) - ball.reach * S(1 + 1e-5);
   }
 
   /// A lower bound on the distance between a link's ball and an obstacle: the balls' gap or the gap to the
@@ -678,7 +684,7 @@ struct Environment<S>::Impl
       const S height = o.flat->n.dot(ball.centre) - o.flat->d;
       return (o.flat->plane ? std::abs(height) : height) - ball.reach * S(1 + 1e-5);
     }
-    return std::max(sphereGap(ball, o.sphere), boxGap(ball, o));
+    return o.box_in_ball ? boxGap(ball, o) : std::max(sphereGap(ball, o.sphere), boxGap(ball, o));
   }
 
   /// Whether the link's ball may touch the obstacle: its world box (no rotation, no square root), the balls (a
