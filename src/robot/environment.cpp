@@ -355,16 +355,16 @@ struct Environment<S>::Impl
     int depth, other_depth;
   };
 
-  /// One configuration along a motion: poses, link spheres, the sweep terms of the intervals it starts (taken
-  /// when the first one is checked), per pair a distance lower bound and the distance that was enough when it
-  /// was last asked for (infinite once the bound is final), and whether some pair collides there.
+  /// One configuration along a motion: poses, link spheres, the sweep terms of the intervals it starts (a link's
+  /// taken when a pair of the link first needs them), per pair a distance lower bound and the distance that was
+  /// enough when it was last asked for (infinite once the bound is final), and whether some pair collides there.
   struct Sample
   {
     S t;
     std::vector<Tf<S>> poses;
     std::vector<WorldSphere<S>> spheres;
     std::vector<typename LinkSweeps<S>::Terms> terms;
-    bool has_terms = false;
+    std::vector<std::uint8_t> has_terms;  ///< per link
     std::vector<S> bound;
     std::vector<S> asked;
     bool colliding = false;
@@ -886,7 +886,8 @@ struct Environment<S>::Impl
     q = from + t * (to - from);
     self.kinematics().linkPoses(q, s.poses);
     placeLinks(s.poses, s.spheres);
-    s.has_terms = false;
+    s.terms.resize(sweeps.termsSize());
+    s.has_terms.assign(links.size(), 0);
     s.colliding = false;
     s.bound.resize(pairs.size());
     for (const int* i = begin; i != end; ++i) s.bound[*i] = gap(s, pairs[*i]);
@@ -906,13 +907,16 @@ struct Environment<S>::Impl
   /// by `pad` for rounding.
   S moved(Sample& s, const fcl::VectorX<S>& step, const MotionPair& p, S dt, S pad) const
   {
-    if (!s.has_terms)
-    {
-      sweeps.terms(s.poses, step, s.terms);
-      s.has_terms = true;
-    }
-    double m = sweeps.sweep(s.terms, p.link, p.depth, double(dt));
-    if (p.other_link >= 0) m += sweeps.sweep(s.terms, p.other_link, p.other_depth, double(dt));
+    const auto sweep = [&](int link, int depth) {
+      if (!s.has_terms[link])
+      {
+        sweeps.linkTerms(s.poses, step, link, s.terms);
+        s.has_terms[link] = 1;
+      }
+      return sweeps.sweep(s.terms, link, depth, double(dt));
+    };
+    double m = sweep(p.link, p.depth);
+    if (p.other_link >= 0) m += sweep(p.other_link, p.other_depth);
     return S(m * (1 + 1e-6)) + pad;
   }
 
