@@ -94,36 +94,46 @@ public:
   /// The largest configuration-independent arm of a link with geometry: the robot's reach, for rounding pads.
   double reach() const { return reach_; }
 
+  /// The size of a terms vector: linkTerms fills its share of one this long.
+  std::size_t termsSize() const { return std::size_t(offsets_.back()); }
+
   /// Every link's terms at the link poses of the interval's start, for the joint step `step` per unit parameter.
   void terms(const std::vector<fcl::Transform3<S>>& poses, const fcl::VectorX<S>& step, std::vector<Terms>& out) const
   {
-    out.assign(std::size_t(offsets_.back()), Terms());
-    for (std::size_t link = 0; link < chains_.size(); ++link)
+    out.resize(termsSize());
+    for (int link = 0; link < int(chains_.size()); ++link) linkTerms(poses, step, link, out);
+  }
+
+  /// One link's terms, as terms() computes them, into `out` (termsSize() long): a caller that needs few links'
+  /// bounds takes only theirs.
+  void linkTerms(const std::vector<fcl::Transform3<S>>& poses, const fcl::VectorX<S>& step, int link,
+                 std::vector<Terms>& out) const
+  {
+    Terms* prefix = &out[std::size_t(offsets_[link])];
+    const std::vector<Joint>& chain = chains_[std::size_t(link)];
+    std::fill(prefix, prefix + chain.size() + 1, Terms());
+    if (!(radii_[link] > 0)) return;
+    const Eigen::Vector3d centre = (poses[link] * centers_[link]).template cast<double>();
+    Terms sum;
+    double growth = 0;
+    for (std::size_t k = 0; k < chain.size(); ++k)
     {
-      if (!(radii_[link] > 0)) continue;
-      const Eigen::Vector3d centre = (poses[link] * centers_[link]).template cast<double>();
-      Terms sum;
-      double growth = 0;
-      Terms* prefix = &out[std::size_t(offsets_[link])];
-      for (std::size_t k = 0; k < chains_[link].size(); ++k)
+      const Joint& j = chain[k];
+      const double speed = std::abs(double(step[j.variable]));
+      double arm = 1;  // a prismatic joint moves every point at its own speed
+      if (!j.prismatic)
       {
-        const Joint& j = chains_[link][k];
-        const double speed = std::abs(double(step[j.variable]));
-        double arm = 1;  // a prismatic joint moves every point at its own speed
-        if (!j.prismatic)
-        {
-          const fcl::Transform3<S>& frame = poses[std::size_t(j.child)];
-          const Eigen::Vector3d u = (frame.linear() * j.axis).template cast<double>().normalized();
-          const Eigen::Vector3d v = centre - frame.translation().template cast<double>();
-          arm = std::min((v - v.dot(u) * u).norm() + double(radii_[link]), j.largest_arm);
-        }
-        const double rate = speed * j.multiplier;
-        sum.first += rate * arm;
-        sum.second += rate * growth / 2;
-        sum.most += rate * j.largest_arm;
-        growth += rate * j.largest_arm;
-        prefix[k + 1] = sum;
+        const fcl::Transform3<S>& frame = poses[std::size_t(j.child)];
+        const Eigen::Vector3d u = (frame.linear() * j.axis).template cast<double>().normalized();
+        const Eigen::Vector3d v = centre - frame.translation().template cast<double>();
+        arm = std::min((v - v.dot(u) * u).norm() + double(radii_[link]), j.largest_arm);
       }
+      const double rate = speed * j.multiplier;
+      sum.first += rate * arm;
+      sum.second += rate * growth / 2;
+      sum.most += rate * j.largest_arm;
+      growth += rate * j.largest_arm;
+      prefix[k + 1] = sum;
     }
   }
 

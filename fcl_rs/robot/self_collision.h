@@ -158,14 +158,14 @@ public:
   /// cheap as `enough` allows (for motion checks, fcl_rs/robot/environment.h): the minimum-distance search on that
   /// pair alone, started at `enough`, so each bound stops it once it reaches `enough`. Below `enough` the answer is
   /// the distance as minimum_distance measures it; without `measure`, GJK's bound on the distance of the elements'
-  /// hulls, stopped within 5 % of it (for convex elements, Panda-like meshes and the URDF shapes, at least 95 % of
+  /// hulls, stopped within half of it (for convex elements, Panda-like meshes and the URDF shapes, at least half
   /// the distance less a rounding margin; for others less). 0 or less for touching links. Thread-safe as query; throws
   /// std::invalid_argument for KDOP18 and OBB (as query with minimum_distance) and for a pair or poses out of range.
   S pairDistanceBound(const std::vector<fcl::Transform3<S>>& poses, int pair, S enough, bool measure) const;
 
   /// A lower bound on the distance between the link at `pose` and a body whose hull is `body` at `body_pose`: the
   /// smallest of GJK's bounds between each element's hull and the body's (as pairDistanceBound bounds elements
-  /// without measuring), each stopped once it reaches `enough` or is within 5 % of the hulls' distance.
+  /// without measuring), each stopped once it reaches `enough` or is within half of the hulls' distance.
   S hullDistanceBound(int link, const fcl::Transform3<S>& pose, const BodyHull<S>& body,
                       const fcl::Transform3<S>& body_pose, S enough) const;
 

@@ -332,6 +332,7 @@ struct Environment<S>::Impl
                             ///< an octree's: its occupied cells')
     fcl::AABB<S> world_box;  ///< box at pose, in the root frame's axes (placeCulling)
     bool aligned = false;    ///< pose does not rotate, so world_box is box moved
+    bool box_in_ball = false;  ///< the ball holds the box (a shape's), so the box gap is never below the balls'
     std::optional<Flat<S>> flat;  ///< a plane or halfspace, placed at pose (its sphere then holds everything)
     /// In an RS environment: the mesh's tree, or a shape's RS fitted once in its own frame (placed per query, so
     /// setPose keeps it), for the direct paths of linkHitsObstacle; unset otherwise.
@@ -354,16 +355,16 @@ struct Environment<S>::Impl
     int depth, other_depth;
   };
 
-  /// One configuration along a motion: poses, link spheres, the sweep terms of the intervals it starts (taken
-  /// when the first one is checked), per pair a distance lower bound and the distance that was enough when it
-  /// was last asked for (infinite once the bound is final), and whether some pair collides there.
+  /// One configuration along a motion: poses, link spheres, the sweep terms of the intervals it starts (a link's
+  /// taken when a pair of the link first needs them), per pair a distance lower bound and the distance that was
+  /// enough when it was last asked for (infinite once the bound is final), and whether some pair collides there.
   struct Sample
   {
     S t;
     std::vector<Tf<S>> poses;
     std::vector<WorldSphere<S>> spheres;
     std::vector<typename LinkSweeps<S>::Terms> terms;
-    bool has_terms = false;
+    std::vector<std::uint8_t> has_terms;  ///< per link
     std::vector<S> bound;
     std::vector<S> asked;
     bool colliding = false;
@@ -597,6 +598,8 @@ struct Environment<S>::Impl
       o.body.radius = o.geometry->aabb_radius;
     }
     o.body.radius *= S(1 + 1e-6);
+    o.box_in_ball = (o.box.max_ - o.body.center).norm() <= o.body.radius &&
+                    (o.box.min_ - o.body.center).norm() <= o.body.radius;
     o.body.elements.push_back({o.geometry.get(), Tf<S>::Identity()});
     placeCulling(o);
   }
@@ -663,10 +666,13 @@ struct Environment<S>::Impl
   }
 
   /// The gap between a link's ball and the obstacle's own box (the ball's centre moved into the obstacle's
-  /// frame): tighter than the balls' for slabs such as tables and for an octree's occupied cells.
+  /// frame, or for a pose that does not rotate the box moved, world_box): tighter than the balls' for slabs such as
+  /// tables and for an octree's occupied cells.
   static S boxGap(const WorldSphere<S>& ball, const Obstacle& o)
   {
-    return std::sqrt(squaredOutside(o.box, o.from_world * ball.centre)) - ball.reach * S(1 + 1e-5);
+    const S outside =
+        o.aligned ? squaredOutside(o.world_box, ball.centre) : squaredOutside(o.box, o.from_world * ball.centre);
+    return std::sqrt(outside) - ball.reach * S(1 + 1e-5);
   }
 
   /// A lower bound on the distance between a link's ball and an obstacle: the balls' gap or the gap to the
@@ -678,7 +684,7 @@ struct Environment<S>::Impl
       const S height = o.flat->n.dot(ball.centre) - o.flat->d;
       return (o.flat->plane ? std::abs(height) : height) - ball.reach * S(1 + 1e-5);
     }
-    return std::max(sphereGap(ball, o.sphere), boxGap(ball, o));
+    return o.box_in_ball ? boxGap(ball, o) : std::max(sphereGap(ball, o.sphere), boxGap(ball, o));
   }
 
   /// Whether the link's ball may touch the obstacle: its world box (no rotation, no square root), the balls (a
@@ -880,7 +886,8 @@ struct Environment<S>::Impl
     q = from + t * (to - from);
     self.kinematics().linkPoses(q, s.poses);
     placeLinks(s.poses, s.spheres);
-    s.has_terms = false;
+    s.terms.resize(sweeps.termsSize());
+    s.has_terms.assign(links.size(), 0);
     s.colliding = false;
     s.bound.resize(pairs.size());
     for (const int* i = begin; i != end; ++i) s.bound[*i] = gap(s, pairs[*i]);
@@ -900,13 +907,16 @@ struct Environment<S>::Impl
   /// by `pad` for rounding.
   S moved(Sample& s, const fcl::VectorX<S>& step, const MotionPair& p, S dt, S pad) const
   {
-    if (!s.has_terms)
-    {
-      sweeps.terms(s.poses, step, s.terms);
-      s.has_terms = true;
-    }
-    double m = sweeps.sweep(s.terms, p.link, p.depth, double(dt));
-    if (p.other_link >= 0) m += sweeps.sweep(s.terms, p.other_link, p.other_depth, double(dt));
+    const auto sweep = [&](int link, int depth) {
+      if (!s.has_terms[link])
+      {
+        sweeps.linkTerms(s.poses, step, link, s.terms);
+        s.has_terms[link] = 1;
+      }
+      return sweeps.sweep(s.terms, link, depth, double(dt));
+    };
+    double m = sweep(p.link, p.depth);
+    if (p.other_link >= 0) m += sweep(p.other_link, p.other_depth);
     return S(m * (1 + 1e-6)) + pad;
   }
 
@@ -1069,12 +1079,19 @@ struct Environment<S>::Impl
           remaining.push_back(i);
           continue;
         }
-        refine(a, pairs[i], i, m, pad, result);
-        if (a.colliding) return collision(a.t);
-        if (m < a.bound[i] + b.bound[i]) continue;
-        refine(b, pairs[i], i, m, pad, result);
-        if (m < a.bound[i] + b.bound[i]) continue;
-        remaining.push_back(i);
+        // Each end is asked only for what the other end's bound leaves of the motion (a pad more, so that a bound
+        // that just reaches it covers): a bound search stops sooner the less it is asked for. The end with the
+        // smaller bound goes first, asked for the least.
+        Sample* ends[2] = {&a, &b};
+        if (b.bound[i] < a.bound[i]) std::swap(ends[0], ends[1]);
+        bool holds = false;
+        for (int e = 0; e < 2 && !holds; ++e)
+        {
+          refine(*ends[e], pairs[i], i, m - ends[1 - e]->bound[i] + pad, pad, result);
+          if (a.colliding) return collision(a.t);
+          holds = m < a.bound[i] + b.bound[i];
+        }
+        if (!holds) remaining.push_back(i);
       }
       if (remaining.empty())
       {

@@ -72,9 +72,10 @@ template <typename S>
 using Tf = fcl::Transform3<S>;
 
 /// GJK on hulls whose bound is not measured further (motion checks' bounds) stops once its certified bound is within
-/// this fraction of the distance reached: the last iterations refine a bound that, this close, certifies nearly as
-/// much.
-constexpr double kUnmeasuredHullGap = 0.05;
+/// this fraction of the distance reached. A motion check asks for what covers a pair's motion: GJK goes on while the
+/// bound stays below that, and a bound that stops below it cannot cover the interval, which is halved anyway, so
+/// refining it further buys little.
+constexpr double kUnmeasuredHullGap = 0.5;
 
 /// x rounded down to S, so that a lower bound computed in double stays one.
 template <typename S>
