@@ -538,6 +538,77 @@ TYPED_TEST(TriangleIntersection, CertificatesAgreeWithTheFullComputation)
   EXPECT_GT(counts[1][int(Certificate::kNone)] + counts[5][int(Certificate::kNone)], per_kind / 10);
 }
 
+// Near-parallel edges, angles 1e-1 to 1e-9, one of a triangle and one of a segment (a triangle with a repeated
+// vertex), at offsets from 0 to 1.5 tolerances across their lines, sizes 1 to 1e3: the computed distance must not
+// exceed the exact one by half a tolerance (so every pair within half a tolerance is reported), and a reported pair
+// is at most 2 tolerances apart. The lines' closest points decide such pairs when they cross inside both edges.
+TYPED_TEST(TriangleIntersection, NearParallelEdgesWithinTheToleranceAreReported)
+{
+  using S = TypeParam;
+  auto rng = fcl_rs::test::seededRng("TriangleIntersection.NearParallelEdges." + fcl_rs::test::scalarName<S>());
+  std::uniform_real_distribution<double> unit(-1, 1), fraction(0, 1);
+  const int per_angle = fcl_rs::test::kSanitized ? 40 : 400;
+  long within_half = 0, beyond_half = 0;
+  for (int k = 1; k <= 9; ++k)
+    for (int n = 0; n < per_angle; ++n)
+    {
+      const double size = std::pow(10.0, std::uniform_int_distribution<int>(0, 3)(rng));
+      const Eigen::Vector3d x = size * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+      const Eigen::Vector3d u = Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
+      const Eigen::Vector3d w = u.cross(Eigen::Vector3d(unit(rng), unit(rng), unit(rng))).normalized();
+      const Eigen::Vector3d across = u.cross(w);
+      const double angle = std::pow(10.0, -k) * (1 + fraction(rng));
+      const Eigen::Vector3d v = std::cos(angle) * u + std::sin(angle) * w;
+      // A: edge p0 p1 along u through x; every other A a segment, the others a triangle whose third vertex lies
+      // away from B's side of that edge and out of the plane of the two edges (else B's vertices above A's
+      // interior would settle the distance).
+      const Eigen::Vector3d p0 = x - size * (0.1 + fraction(rng)) * u, p1 = x + size * (0.1 + fraction(rng)) * u;
+      const Eigen::Vector3d p2 = n % 2 ? p1 : Eigen::Vector3d(x + size * (unit(rng) * u - (0.01 + fraction(rng)) *
+                                                                          (w + (0.5 + fraction(rng)) * across)));
+      fcl::Vector3<S> p[3] = {p0.template cast<S>(), p1.template cast<S>(), p2.template cast<S>()};
+      const Eigen::Vector3d q0 = x - size * (0.1 + fraction(rng)) * v, q1 = x + size * (0.1 + fraction(rng)) * v;
+      fcl::Vector3<S> q[3] = {q0.template cast<S>(), q1.template cast<S>(), q1.template cast<S>()};
+      const fcl::Vector3<S> zero = fcl::Vector3<S>::Zero();
+      const double shift = 1.5 * fraction(rng) * double(fcl_rs::triangleTolerance<S>(p, q, zero, zero, zero));
+      for (auto& vertex : q) vertex += (shift * across).template cast<S>();
+      const S tolerance = fcl_rs::triangleTolerance<S>(p, q, zero, zero, zero);
+      const ExactTriangle exact_p{p[0].template cast<double>(), p[1].template cast<double>(),
+                                  p[2].template cast<double>()};
+      const ExactTriangle exact_q{q[0].template cast<double>(), q[1].template cast<double>(),
+                                  q[2].template cast<double>()};
+      const double distance = fcl_rs::test::exactDistance(exact_p, exact_q);
+      const bool reported = fcl_rs::trianglesWithin(p, q, tolerance);
+      EXPECT_EQ(fcl_rs::triangleProximity(p, q, tolerance).reported, reported);
+      if (distance <= 0.5 * double(tolerance))
+      {
+        ++within_half;
+        EXPECT_TRUE(reported) << "angle " << angle << " size " << size << " exact distance " << distance
+                              << " tolerance " << tolerance;
+      }
+      else
+        ++beyond_half;
+      if (reported) EXPECT_LE(distance, 2 * double(tolerance));
+      if (::testing::Test::HasFailure()) return;
+    }
+  EXPECT_GT(within_half, 9 * per_angle / 5);
+  EXPECT_GT(beyond_half, 9 * per_angle / 5);
+}
+
+// Found by fuzz_triangle_intersection (fuzz/corpus/fuzz_triangle_intersection/near-parallel-crossing): A a sliver
+// in the plane y = -4, B a segment crossing A's long edge at an angle of 1.6e-4, off that plane by rounding only.
+// The normal equations of the two lines put their closest points 4.6e-11 apart, beyond the tolerance.
+TEST(TriangleIntersectionCases, EdgesCrossingAtASmallAngleAreReported)
+{
+  using V = fcl::Vector3<double>;
+  const V p[3] = {V(-32, -4, -3.99609375), V(-497.5, -4, -3.921875), V(899, -4, -4.14453125)};
+  const V q[3] = {V(-52.625000000000014, -4.0000000000000018, -4.0000000000000018), V(-4.0000000000000009, -4, -4),
+                  V(-4.0000000000000009, -4, -4)};
+  const double tolerance = 3.8340886021615006e-11;
+  EXPECT_LT(fcl_rs::test::exactDistance({p[0], p[1], p[2]}, {q[0], q[1], q[2]}), 1e-15);
+  EXPECT_TRUE(fcl_rs::triangleProximity(p, q, tolerance).reported);
+  EXPECT_TRUE(fcl_rs::trianglesWithin(p, q, tolerance));
+}
+
 // Found by fuzz_triangle_intersection (fuzz/corpus/fuzz_triangle_intersection/sliver-tip-beyond): A a segment, B a
 // sliver (collinear in its own frame, 1e-14 wide after the move into A's frame) 0.007 from A at its tip, where
 // the sliver's edge signs are rounding noise; the distance must still not call them touching.

@@ -111,8 +111,10 @@ Vec3<W> closestOnSegment(const Vec3<W>& a, const Vec3<W>& b, const Vec3<W>& x)
 }
 
 /// Closest points of segments [p0, p1] and [q0, q1]: the four endpoint-to-segment candidates, and the two lines'
-/// closest points when both fall inside. Every candidate is a feasible pair, and near-parallel segments (whose
-/// line solution is ill-conditioned) are settled by the endpoint candidates.
+/// closest points when both fall inside. Every candidate is a feasible pair. The lines' solution minimises
+/// |(r + s d1) x d2| = |A + s B| over s: for lines that cross within the segments A is nearly -s B, so the computed
+/// distance is off by a few roundings of the segments' coordinates at any angle between them, where the normal
+/// equations (denominator |d1|^2 |d2|^2 - (d1.d2)^2) lose precision as the square of the angle shrinks.
 template <typename W>
 void segmentSegment(const Vec3<W>& p0, const Vec3<W>& p1, const Vec3<W>& q0, const Vec3<W>& q1, ClosestSoFar<W>& best)
 {
@@ -121,11 +123,14 @@ void segmentSegment(const Vec3<W>& p0, const Vec3<W>& p1, const Vec3<W>& q0, con
   best.offer(closestOnSegment(p0, p1, q0), q0);
   best.offer(closestOnSegment(p0, p1, q1), q1);
   const Vec3<W> d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const W a = d1.squaredNorm(), e = d2.squaredNorm(), b = d1.dot(d2), c = d1.dot(r), f = d2.dot(r);
-  const W denom = a * e - b * b;
-  if (!(denom > 0)) return;
-  const W s = (b * f - c * e) / denom, t = (a * f - b * c) / denom;
-  if (s > 0 && s < 1 && t > 0 && t < 1) best.offer(p0 + s * d1, q0 + t * d2);
+  const Vec3<W> A = r.cross(d2), B = d1.cross(d2);
+  const W bb = B.squaredNorm();
+  if (!(bb > 0)) return;
+  const W s = -A.dot(B) / bb;
+  if (!(s > 0 && s < 1)) return;
+  const Vec3<W> on_p = p0 + s * d1;
+  const W t = (on_p - q0).dot(d2) / d2.squaredNorm();
+  if (t > 0 && t < 1) best.offer(on_p, q0 + t * d2);
 }
 
 /// Whether x, a point of the plane of (v0, v1, v2) with normal n, lies in the closed triangle: the three edge
