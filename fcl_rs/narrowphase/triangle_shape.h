@@ -458,8 +458,9 @@ public:
     const double length = d.norm();
     for (const Cluster& c : clusters_)
     {
-      // The cluster's points are at least this low; the margin covers the rounding of both sides.
-      const double floor = c.centre.dot(d) - c.radius * length;
+      // The cluster's points are at least this low, by its ball and by its box (tighter along a face of the box,
+      // where the ball dips below the points); the margin covers the rounding of both sides.
+      const double floor = c.centre.dot(d) - std::min(c.radius * length, c.half.dot(d.cwiseAbs()));
       if (floor - kClusterMargin * (c.reach * length) > value) continue;
       for (std::size_t i = c.begin; i < c.end; ++i)
       {
@@ -501,11 +502,12 @@ public:
   static constexpr std::size_t kMinWalked = 32;
 
 private:
-  /// Points [begin, end) within `radius` of `centre`; reach: |centre| + radius.
+  /// Points [begin, end) within `radius` of `centre` and within the box of half sides `half` about it; reach:
+  /// |centre| + radius.
   struct Cluster
   {
     std::size_t begin, end;
-    Vec centre;
+    Vec centre, half;
     double radius, reach;
   };
   static constexpr std::size_t kClusterSize = 16;
@@ -523,7 +525,8 @@ private:
       double radius = 0;
       for (std::size_t i = begin; i < end; ++i) radius = std::max(radius, (points_[order[i]] - centre).norm());
       radius *= 1 + kClusterMargin;
-      clusters_.push_back(Cluster{begin, end, centre, radius, centre.norm() + radius});
+      const Vec half = (hi - lo) / 2 * (1 + kClusterMargin);
+      clusters_.push_back(Cluster{begin, end, centre, half, radius, centre.norm() + radius});
       return;
     }
     int axis;
