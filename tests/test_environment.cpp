@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <fstream>
 #include <functional>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <random>
@@ -458,6 +459,80 @@ TYPED_TEST(EnvironmentTest, MotionChecksAgreeWithDenseSampling)
     if (!test::kSanitized) { EXPECT_GT(colliding, 0); }
     EXPECT_LT(colliding, 2 * segments);
   }
+}
+
+// Hundreds of small obstacles in and around the Panda's reach, so that the broad phase's tree has many levels:
+// every query equals the brute force over every link x obstacle pair, also after half of them moved and a quarter
+// were removed (the tree rebuilt), and motion checks (short and long segments) agree with dense sampling.
+TYPED_TEST(EnvironmentTest, HundredsOfObstaclesAgreeWithBruteForce)
+{
+  using S = TypeParam;
+  if (!panda()) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  auto rng = test::seededRng("HundredsOfObstaclesAgreeWithBruteForce/" + test::scalarName<S>());
+  Environment<S> env(*panda(), BVType::kRS, pandaSrdf());
+  std::vector<Reference<S>> refs;
+  std::uniform_real_distribution<double> u(-1.5, 1.5), h(-0.2, 1.6), size(0.02, 0.06);
+  const auto place = [&]() { return at<S>(S(u(rng)), S(u(rng)), S(h(rng))); };
+  const int count = test::kSanitized ? 100 : 240;
+  for (int i = 0; i < count; ++i)
+  {
+    std::shared_ptr<fcl::CollisionGeometry<S>> g;
+    if (i % 2)
+      g = std::make_shared<fcl::Box<S>>(S(size(rng)), S(size(rng)), S(size(rng)));
+    else
+      g = std::make_shared<fcl::Sphere<S>>(S(size(rng)));
+    refs.push_back({"obstacle" + std::to_string(i), g, place()});
+    env.addShape(refs.back().name, g, refs.back().pose);
+  }
+  int colliding = 0, queries = 0;
+  const auto expectQueries = [&](int n) {
+    for (int i = 0; i < n; ++i)
+    {
+      const fcl::VectorX<S> q = env.kinematics().randomConfiguration(rng);
+      SCOPED_TRACE(::testing::Message() << "configuration " << q.transpose());
+      EnvironmentRequest request;
+      request.colliding_pairs = true;
+      const EnvironmentResult<S> result = env.query(q, request);
+      EXPECT_EQ(result.pairs, bruteForce(env, refs, q, false).pairs);
+      EXPECT_EQ(env.query(q).colliding, result.colliding);
+      colliding += result.colliding;
+      ++queries;
+    }
+  };
+  const int per_round = test::kSanitized ? 3 : 10;
+  expectQueries(per_round);
+  for (std::size_t i = 0; i < refs.size(); i += 2)
+  {
+    refs[i].pose = place();
+    env.setPose(refs[i].name, refs[i].pose);
+  }
+  for (int i = 0; i < count / 4; ++i)
+  {
+    const std::size_t k = std::uniform_int_distribution<std::size_t>(0, refs.size() - 1)(rng);
+    env.remove(refs[k].name);
+    refs.erase(refs.begin() + std::ptrdiff_t(k));
+  }
+  expectQueries(per_round);
+  EXPECT_GT(colliding, 0);
+  EXPECT_LT(colliding, queries);
+
+  int motions_colliding = 0;
+  for (int i = 0; i < (test::kSanitized ? 2 : 12); ++i)
+  {
+    fcl::VectorX<S> from = env.kinematics().randomConfiguration(rng);
+    for (int tries = 0; tries < 200 && env.query(from).colliding; ++tries)
+      from = env.kinematics().randomConfiguration(rng);
+    const double reach = i % 2 ? 0.6 : 0.1;  // long and short segments
+    std::uniform_real_distribution<double> step(-reach, reach);
+    fcl::VectorX<S> to = from;
+    for (int v = 0; v < to.size(); ++v)
+      to[v] = std::clamp(S(to[v] + step(rng)), env.kinematics().lower()[v], env.kinematics().upper()[v]);
+    SCOPED_TRACE(::testing::Message() << "segment " << i << " from " << from.transpose() << " to " << to.transpose());
+    expectMotionAgreesWithSampling(env, from, to, test::kSanitized ? 50 : 150, MotionRequest<S>(), &motions_colliding);
+  }
+  if (!test::kSanitized) { EXPECT_GT(motions_colliding, 0); }
+  std::cout << "[hundreds of obstacles] " << colliding << " of " << queries << " configurations collide, "
+            << motions_colliding << " motions\n";
 }
 
 /// The link `moving` joints up `link`'s chain (LinkSweeps' depth): the frame its bound is relative to.

@@ -24,6 +24,7 @@
 #include "../scalars.h"
 #include "../validated_entries.h"
 #include "body_hulls.h"
+#include "box_tree.h"
 #include "self_collision_internals.h"
 #include "world_balls.h"
 #include "fcl_rs/bv/rs_fit.h"
@@ -399,6 +400,9 @@ struct Environment<S>::Impl
     std::vector<Uncovered> uncovered;
     std::vector<std::pair<S, S>> certified;
     fcl::VectorX<S> q;
+    std::vector<int> near;  ///< motionPairs' obstacles of one link
+    std::vector<Tf<S>> start_poses;
+    std::vector<typename LinkSweeps<S>::Terms> start_terms;
   };
 
   Impl(const RobotModel& robot, BVType bv_type, const std::vector<DisabledCollision>& disabled)
@@ -491,6 +495,7 @@ struct Environment<S>::Impl
     }
     touchFixedLinks(o);
     obstacles.push_back(std::move(o));
+    indexObstacles();
   }
 
   /// Sets o.fixed_link_hits at o's pose (after fit, for an octree's current cells).
@@ -637,8 +642,7 @@ struct Environment<S>::Impl
     for (int link : geometric_links) spheres[link] = place(links[link], poses[link]);
   }
 
-  /// The obstacles whose world boxes and balls meet the box around every link ball (the robot's broad phase: one
-  /// test per obstacle, so hundreds of far obstacles cost little).
+  /// The obstacles whose world boxes and balls meet the box around every link ball, and the planes and halfspaces.
   void nearObstacles(const std::vector<WorldSphere<S>>& spheres, std::vector<int>& near) const
   {
     fcl::Vector3<S> lo = fcl::Vector3<S>::Constant(std::numeric_limits<S>::infinity()), hi = -lo;
@@ -647,22 +651,40 @@ struct Environment<S>::Impl
       lo = lo.cwiseMin(spheres[link].centre - fcl::Vector3<S>::Constant(spheres[link].reach));
       hi = hi.cwiseMax(spheres[link].centre + fcl::Vector3<S>::Constant(spheres[link].reach));
     }
-    near.clear();
+    obstaclesMeeting(fcl::AABB<S>(lo, hi), near);
+    std::sort(near.begin(), near.end());  // pairs are reported link by link, obstacles in the order added
+  }
+
+  /// The planes and halfspaces, and the obstacles whose world boxes and balls meet `box` in the tree's order (found
+  /// on obstacle_tree, so that hundreds of far obstacles cost little).
+  void obstaclesMeeting(const fcl::AABB<S>& box, std::vector<int>& near) const
+  {
+    near = flat_obstacles;
+    obstacle_tree.overlapping(box, [&](int i) {
+      const WorldSphere<S>& s = obstacles[std::size_t(i)].sphere;
+      const fcl::Vector3<S> outside = (box.min_ - s.centre).cwiseMax(s.centre - box.max_).cwiseMax(S(0));
+      if (outside.squaredNorm() <= s.reach * s.reach) near.push_back(i);
+    });
+  }
+
+  /// Rebuilds the broad phase (obstacle_tree and the lists beside it) after an obstacle was added, moved,
+  /// refreshed or removed.
+  void indexObstacles()
+  {
+    obstacles_with_elements.clear();
+    flat_obstacles.clear();
+    std::vector<std::pair<fcl::AABB<S>, int>> boxes;
     for (std::size_t i = 0; i < obstacles.size(); ++i)
     {
-      if (obstacles[i].body.elements.empty()) continue;
-      if (obstacles[i].flat)
-      {
-        near.push_back(int(i));
-        continue;
-      }
-      const fcl::AABB<S>& box = obstacles[i].world_box;
-      const WorldSphere<S>& s = obstacles[i].sphere;
-      const fcl::Vector3<S> outside = (lo - s.centre).cwiseMax(s.centre - hi).cwiseMax(S(0));
-      if ((box.min_.array() <= hi.array()).all() && (box.max_.array() >= lo.array()).all() &&
-          outside.squaredNorm() <= s.reach * s.reach)
-        near.push_back(int(i));
+      const Obstacle& o = obstacles[i];
+      if (o.body.elements.empty()) continue;
+      obstacles_with_elements.push_back(int(i));
+      if (o.flat)
+        flat_obstacles.push_back(int(i));
+      else
+        boxes.emplace_back(o.world_box, int(i));
     }
+    obstacle_tree.build(std::move(boxes));
   }
 
   /// The gap between a link's ball and the obstacle's own box (the ball's centre moved into the obstacle's
@@ -855,14 +877,34 @@ struct Environment<S>::Impl
 
   // ---- motion checks ----
 
-  /// The pairs a motion check certifies, into `pairs`: the self pairs (made once, selfMotionPairs), then the link x
-  /// obstacle pairs.
-  void motionPairs(std::vector<MotionPair>& pairs) const
+  /// The pairs a motion from `from` by `step` (per unit parameter) certifies, into x.pairs: the self pairs (made
+  /// once, selfMotionPairs), then each link with the obstacles its ball may reach over the whole motion: those
+  /// meeting the box around the ball at the start grown by the most it travels (LinkSweeps), and the planes and
+  /// halfspaces; with every obstacle when the broad phase is a single leaf (a box would save nothing).
+  void motionPairs(const fcl::VectorX<S>& from, const fcl::VectorX<S>& step, S pad, Scratch& x) const
   {
-    pairs = self_motion_pairs;
+    x.pairs = self_motion_pairs;
+    const bool cull = obstacle_tree.branches();
+    if (cull)
+    {
+      self.kinematics().linkPoses(from, x.start_poses);
+      x.start_terms.resize(sweeps.termsSize());
+    }
     for (int link : geometric_links)
-      for (std::size_t o = 0; o < obstacles.size(); ++o)
-        if (!obstacles[o].body.elements.empty()) pairs.push_back({link, -1, int(o), -1, sweeps.depth(link), 0});
+    {
+      if (cull)
+      {
+        const WorldSphere<S> ball = place(links[link], x.start_poses[link]);
+        sweeps.linkTerms(x.start_poses, step, link, x.start_terms);
+        const S reach =
+            ball.reach + S(sweeps.sweep(x.start_terms, link, sweeps.depth(link), 1.0) * (1 + 1e-6)) + pad;
+        obstaclesMeeting(fcl::AABB<S>(ball.centre - fcl::Vector3<S>::Constant(reach),
+                                      ball.centre + fcl::Vector3<S>::Constant(reach)),
+                         x.near);
+      }
+      for (int o : cull ? x.near : obstacles_with_elements)
+        x.pairs.push_back({link, -1, o, -1, sweeps.depth(link), 0});
+    }
   }
 
   static std::vector<MotionPair> selfMotionPairs(const SelfCollision<S>& self, const LinkSweeps<S>& sweeps)
@@ -996,10 +1038,10 @@ struct Environment<S>::Impl
     static thread_local Scratch scratch;
     Scratch& x = scratch;
     const std::vector<MotionPair>& pairs = x.pairs;
-    motionPairs(x.pairs);
     const fcl::VectorX<S> step = to - from;
     // Rounding of poses and distances in S, relative to the robot's reach.
     const S pad = S(32) * std::numeric_limits<S>::epsilon() * S(1 + sweeps.reach());
+    motionPairs(from, step, pad, x);
     const S shortest = std::max(S(1e-9), S(16) * std::numeric_limits<S>::epsilon());
 
     MotionResult<S> result;
@@ -1175,6 +1217,11 @@ struct Environment<S>::Impl
   std::vector<std::vector<fcl::Vector3<S>>> link_vertices;  ///< each link's mesh vertices, link frame (heights)
   std::vector<int> geometric_links;
   std::vector<Obstacle> obstacles;
+  // The broad phase (indexObstacles): a tree of the world boxes of the obstacles with a box, the planes and
+  // halfspaces apart, and every obstacle with something to meet.
+  detail::BoxTree<S> obstacle_tree;
+  std::vector<int> flat_obstacles;
+  std::vector<int> obstacles_with_elements;
   std::vector<MotionPair> self_motion_pairs;       ///< motionPairs' self pairs, which obstacles do not change
   std::vector<std::pair<int, Tf<S>>> fixed_pose;  ///< the geometric links no joint variable moves, at their pose
   std::vector<std::uint8_t> fixed_link;           ///< per link: one of fixed_pose
@@ -1261,6 +1308,7 @@ void Environment<S>::refreshOcTree(const std::string& name)
     throw std::invalid_argument("fcl_rs::Environment::refreshOcTree: obstacle '" + name + "' is not an octree");
   Impl::fit(o);
   impl_->touchFixedLinks(o);
+  impl_->indexObstacles();
 }
 #endif
 
@@ -1275,12 +1323,14 @@ void Environment<S>::setPose(const std::string& name, const fcl::Transform3<S>& 
   o.flat = flatAt(*o.geometry, pose);
   if (!o.flat && !o.body.elements.empty()) Impl::placeCulling(o);
   impl_->touchFixedLinks(o);
+  impl_->indexObstacles();
 }
 
 template <typename S>
 void Environment<S>::remove(const std::string& name)
 {
   impl_->obstacles.erase(impl_->obstacles.begin() + impl_->require(name, "remove"));
+  impl_->indexObstacles();
 }
 
 template <typename S>
