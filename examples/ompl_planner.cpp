@@ -6,10 +6,11 @@
 //   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf --motions N [STEP]  exact motion checks against discrete ones at
 //                                                            0.01 rad on N seeded segments
 //   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf --benchmark N [BUDGET] [--validator discrete|exact] [--bv RS,OBB,...]
-//                                                            N seeded queries per BV type and motion validator,
+//                       [--clutter K]                      N seeded queries per BV type and motion validator,
 //                                                            each BV type in its own process (same OMPL seed), the
 //                                                            searches asserted identical, times compared; the
-//                                                            state checks replayed for the self and world parts
+//                                                            state checks replayed for the self and world parts;
+//                                                            K small boxes out of the robot's reach added
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -175,8 +176,10 @@ private:
 
 /// A table under the robot, a shelf of two boards on two sides in front of it, two mesh obstacles and, where FCL
 /// has octomap support, a crate on the table as a depth sensor would see it (an octomap of its surface), scaled
-/// to the robot's reach.
-void addScene(Environment<double>& env, double reach)
+/// to the robot's reach; and `clutter` small boxes between 2 and 4 reaches from the base, out of the reach of a robot
+/// no longer than the scene's (the Panda, the UR5): the search stays the one without them, and what they cost is
+/// the environment's broad phase.
+void addScene(Environment<double>& env, double reach, int clutter = 0)
 {
   const auto at = [](double x, double y, double z) {
     fcl::Transform3d tf = fcl::Transform3d::Identity();
@@ -196,6 +199,14 @@ void addScene(Environment<double>& env, double reach)
   const auto crate = fcl_rs::surfaceOcTree(fcl_rs::makeBox<double>(0.25 * r, 0.25 * r, 0.3 * r), 0.02 * r);
   env.addOcTree("scan", std::make_shared<fcl::OcTreed>(crate), at(0.35 * r, 0.5 * r, 0.15 * r));
 #endif
+  std::mt19937_64 rng(clutter);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (int i = 0; i < clutter; ++i)
+  {
+    const double angle = 2 * M_PI * unit(rng), distance = (2 + 2 * unit(rng)) * r;
+    env.addShape("clutter" + std::to_string(i), std::make_shared<fcl::Boxd>(0.05 * r, 0.05 * r, 0.05 * r),
+                 at(distance * std::cos(angle), distance * std::sin(angle), 2 * r * unit(rng)));
+  }
 }
 
 /// How far the robot reaches: the largest distance of a link's geometry from the root at the zero configuration
@@ -319,12 +330,12 @@ Replay replay(const Environment<double>& env, const std::vector<Eigen::VectorXd>
 /// The benchmark lines of one BV type and validator (one process: OMPL's seed is global and set once): one per
 /// query, then, when `timed_checks`, the replay of the state checks (see plan for what is timed).
 std::string benchmarkRun(const std::string& urdf, const std::string& srdf, fcl_rs::BVType bv, bool exact, int queries,
-                         long budget, bool timed_checks)
+                         long budget, int clutter, bool timed_checks)
 {
   ompl::RNG::setSeed(20261126);
   const fcl_rs::RobotModel robot = fcl_rs::loadUrdf(urdf);
   Environment<double> env(robot, bv, fcl_rs::loadDisabledCollisions(srdf, robot));
-  addScene(env, reachOf(robot));
+  addScene(env, reachOf(robot), clutter);
   std::ostringstream out;
   out.precision(9);
   std::vector<Eigen::VectorXd> checked;
@@ -404,7 +415,7 @@ Row parse(const std::string& text)
 }
 
 int benchmark(const std::string& urdf, const std::string& srdf, int queries, long budget,
-              const std::vector<bool>& validators, const std::vector<fcl_rs::BVType>& bvs)
+              const std::vector<bool>& validators, const std::vector<fcl_rs::BVType>& bvs, int clutter)
 {
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
   bool identical = true;
@@ -421,8 +432,9 @@ int benchmark(const std::string& urdf, const std::string& srdf, int queries, lon
       if (exact && bv == fcl_rs::BVType::kOBB) continue;  // FCL has no OBB distance
       // Planning is timed in a process without clock reads per check; a second one, which must make the same
       // search, times the checks.
-      Row row = parse(inChild([&] { return benchmarkRun(urdf, srdf, bv, exact, queries, budget, false); }));
-      const Row timed = parse(inChild([&] { return benchmarkRun(urdf, srdf, bv, exact, queries, budget, true); }));
+      Row row = parse(inChild([&] { return benchmarkRun(urdf, srdf, bv, exact, queries, budget, clutter, false); }));
+      const Row timed =
+          parse(inChild([&] { return benchmarkRun(urdf, srdf, bv, exact, queries, budget, clutter, true); }));
       const bool same_twice = timed.search == row.search;
       row.state = timed.state, row.motion = timed.motion, row.replayed = timed.replayed, row.replay = timed.replay;
       if (reference.empty())
@@ -495,7 +507,8 @@ int run(int argc, char** argv)
   if (argc < 3)
   {
     std::cerr << "usage: " << argv[0]
-              << " ROBOT.urdf ROBOT.srdf [--benchmark QUERIES [BUDGET] [--validator discrete|exact] [--bv RS,OBB,...] |"
+              << " ROBOT.urdf ROBOT.srdf [--benchmark QUERIES [BUDGET] [--validator discrete|exact] [--bv RS,OBB,...]"
+                 " [--clutter K] |"
                  " --motions SEGMENTS [STEP]]\n";
     return 2;
   }
@@ -507,6 +520,7 @@ int run(int argc, char** argv)
     int arg = 5;
     const long budget = argc > arg && argv[arg][0] != '-' ? std::stol(argv[arg++]) : 100000;
     std::vector<bool> validators = {false, true};
+    int clutter = 0;
     std::vector<fcl_rs::BVType> bvs;  // KDOP18 trees are refitted in place per check: not shareable
     for (fcl_rs::BVType bv : fcl_rs::kRobotBVTypes)
       if (bv != fcl_rs::BVType::kKDOP18) bvs.push_back(bv);
@@ -521,16 +535,19 @@ int run(int argc, char** argv)
         std::istringstream names(value);
         for (std::string name; std::getline(names, name, ',');) bvs.push_back(fcl_rs::parseBVType(name));
       }
+      else if (option == "--clutter" && !value.empty() && value.find_first_not_of("0123456789") == std::string::npos)
+        clutter = std::stoi(value);
       else
         break;
     }
     if (arg != argc || bvs.empty())
     {
       std::cerr << "usage: " << argv[0]
-                << " ROBOT.urdf ROBOT.srdf --benchmark QUERIES [BUDGET] [--validator discrete|exact] [--bv RS,OBB,...]\n";
+                << " ROBOT.urdf ROBOT.srdf --benchmark QUERIES [BUDGET] [--validator discrete|exact] [--bv RS,OBB,...]"
+                   " [--clutter K]\n";
       return 2;
     }
-    return benchmark(urdf, srdf, std::stoi(argv[4]), budget, validators, bvs);
+    return benchmark(urdf, srdf, std::stoi(argv[4]), budget, validators, bvs, clutter);
   }
 
   ompl::RNG::setSeed(7);
