@@ -71,6 +71,7 @@ public:
         arm += joint.origin.translation().norm() + travel(j);
       }
       if (radii[link] > 0) reach_ = std::max(reach_, arm);
+      workspace_.push_back(arm);
       offsets_[link + 1] = offsets_[link] + int(chains_[link].size()) + 1;
     }
   }
@@ -93,6 +94,8 @@ public:
   int jointVariable(int joint) const { return joint_variable_[joint]; }
   /// The largest configuration-independent arm of a link with geometry: the robot's reach, for rounding pads.
   double reach() const { return reach_; }
+  /// How far from the root frame's origin any point of the link's ball is, in every configuration.
+  double workspace(int link) const { return workspace_[std::size_t(link)]; }
 
   /// The size of a terms vector: linkTerms fills its share of one this long.
   std::size_t termsSize() const { return std::size_t(offsets_.back()); }
@@ -161,6 +164,7 @@ private:
   std::vector<int> joint_variable_;
   std::vector<std::vector<Joint>> chains_;  ///< per link, its moving joints from the link upwards
   std::vector<int> offsets_;                ///< per link, where its depth() + 1 prefixes start in terms()
+  std::vector<double> workspace_;           ///< per link, workspace()
   double reach_ = 0;
 };
 

@@ -879,8 +879,9 @@ struct Environment<S>::Impl
 
   /// The pairs a motion from `from` by `step` (per unit parameter) certifies, into x.pairs: the self pairs (made
   /// once, selfMotionPairs), then each link with the obstacles its ball may reach over the whole motion: those
-  /// meeting the box around the ball at the start grown by the most it travels (LinkSweeps), and the planes and
-  /// halfspaces; with every obstacle when the broad phase is a single leaf (a box would save nothing).
+  /// meeting the box around the ball at the start grown by the most it travels (LinkSweeps), cut to the box around
+  /// the root that holds the ball in every configuration, and the planes and halfspaces; with every obstacle when
+  /// the broad phase is a single leaf (a box would save nothing).
   void motionPairs(const fcl::VectorX<S>& from, const fcl::VectorX<S>& step, S pad, Scratch& x) const
   {
     x.pairs = self_motion_pairs;
@@ -898,8 +899,9 @@ struct Environment<S>::Impl
         sweeps.linkTerms(x.start_poses, step, link, x.start_terms);
         const S reach =
             ball.reach + S(sweeps.sweep(x.start_terms, link, sweeps.depth(link), 1.0) * (1 + 1e-6)) + pad;
-        obstaclesMeeting(fcl::AABB<S>(ball.centre - fcl::Vector3<S>::Constant(reach),
-                                      ball.centre + fcl::Vector3<S>::Constant(reach)),
+        const fcl::Vector3<S> workspace = fcl::Vector3<S>::Constant(S(sweeps.workspace(link) * (1 + 1e-6)) + pad);
+        obstaclesMeeting(fcl::AABB<S>((ball.centre - fcl::Vector3<S>::Constant(reach)).cwiseMax(-workspace),
+                                      (ball.centre + fcl::Vector3<S>::Constant(reach)).cwiseMin(workspace)),
                          x.near);
       }
       for (int o : cull ? x.near : obstacles_with_elements)
