@@ -561,7 +561,8 @@ TYPED_TEST(EnvironmentTest, LinkSweepsBoundThePathOfEveryVertex)
     radii.push_back(self.linkSphere(i).radius);
   }
   const LinkSweeps<S> sweeps(robot, self.kinematics(), centers, radii);
-  // Every link against the root, and each link of a self pair against their common ancestor.
+  // Every link against the root, and each link of a self pair against their common ancestor; every vertex within the
+  // link's workspace of the root's origin.
   std::vector<std::pair<int, int>> bounds;  // link, depth
   for (int link = 0; link < int(robot.links.size()); ++link)
     if (!robot.links[link].mesh.vertices.empty()) bounds.emplace_back(link, sweeps.depth(link));
@@ -592,14 +593,16 @@ TYPED_TEST(EnvironmentTest, LinkSweepsBoundThePathOfEveryVertex)
       const double bound = sweeps.sweep(terms, link, depth, t1 - t0);
       std::vector<fcl::Transform3<S>> relative;  // the link in the frame, along the interval
       for (const auto& p : poses) relative.push_back(p[frame].inverse(Eigen::Isometry) * p[link]);
-      double longest = 0;
+      double longest = 0, farthest = 0;  // a vertex's path, and its distance from the root's origin
       for (const fcl::Vector3d& vertex : robot.links[link].mesh.vertices)
       {
         const auto at = [&](int k) -> fcl::Vector3d { return (relative[k] * vertex.cast<S>()).template cast<double>(); };
         double length = 0;
         for (int k = 0; k < pieces; ++k) length += (at(k + 1) - at(k)).norm();
         longest = std::max(longest, length);
+        for (const auto& p : poses) farthest = std::max(farthest, double((p[link] * vertex.cast<S>()).norm()));
       }
+      EXPECT_LE(farthest, sweeps.workspace(link) * (1 + 1e-6)) << robot.links[link].name;
       // Each chord rounds by a few ulps of the reach.
       const double rounding = std::is_same_v<S, float> ? 2e-7 * pieces : 1e-12 * pieces;
       EXPECT_LE(longest, bound + rounding) << robot.links[link].name << " below " << robot.links[frame].name
