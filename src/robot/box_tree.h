@@ -39,11 +39,11 @@ public:
     {
       const int index = stack[--top];
       const Node& node = nodes_[std::size_t(index)];
-      if (!meets(node.box, box)) continue;
+      if (!node.box.overlap(box)) continue;
       if (node.count > 0)
       {
         for (int i = node.first; i < node.first + node.count; ++i)
-          if (meets(items_[std::size_t(i)].first, box)) visit(items_[std::size_t(i)].second);
+          if (items_[std::size_t(i)].first.overlap(box)) visit(items_[std::size_t(i)].second);
         continue;
       }
       stack[top++] = node.right;
@@ -62,11 +62,6 @@ private:
 
   /// Leaves hold up to this many items: testing a few boxes in a row costs less than descending to each.
   static constexpr int kLeafItems = 4;
-
-  static bool meets(const fcl::AABB<S>& a, const fcl::AABB<S>& b)
-  {
-    return (a.min_.array() <= b.max_.array()).all() && (a.max_.array() >= b.min_.array()).all();
-  }
 
   /// Builds the node of items [first, end) and its subtree; returns its index. Splits at the median of the box
   /// centres along the axis where they spread most.

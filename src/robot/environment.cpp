@@ -662,8 +662,7 @@ struct Environment<S>::Impl
     near = flat_obstacles;
     obstacle_tree.overlapping(box, [&](int i) {
       const WorldSphere<S>& s = obstacles[std::size_t(i)].sphere;
-      const fcl::Vector3<S> outside = (box.min_ - s.centre).cwiseMax(s.centre - box.max_).cwiseMax(S(0));
-      if (outside.squaredNorm() <= s.reach * s.reach) near.push_back(i);
+      if (squaredOutside(box, s.centre) <= s.reach * s.reach) near.push_back(i);
     });
   }
 
