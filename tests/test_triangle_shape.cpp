@@ -445,6 +445,52 @@ TYPED_TEST(TriangleShape, GrazingTrianglesAreReported)
   });
 }
 
+/// Thin capsules (radii 1 to 1e-8 of the length) whose axis passes a triangle edge at angles 1e-1 to 1e-9, at
+/// 1.5 tolerances or less from touching: the closest pair lies inside the edge and the axis, and the triangle
+/// turns away from the axis so that it does not cross the triangle's plane within its length (the segment-segment
+/// distance alone decides). The normal equations lost precision as the square of the angle, so that capsules
+/// touching the triangle exactly were not reported.
+TYPED_TEST(TriangleShape, ThinCapsulesAlongATriangleEdgeMatchTheExactAnswer)
+{
+  using S = TypeParam;
+  const std::string what = "triangle-shape/capsule-along-edge/" + fcl_rs::test::scalarName<S>();
+  auto rng = fcl_rs::test::seededRng(what);
+  std::uniform_real_distribution<double> unit(-1, 1), fraction(0, 1);
+  const int per_case = fcl_rs::test::kSanitized ? 4 : 40;
+  const fcl::Vector3<S> zero = fcl::Vector3<S>::Zero();
+  const double tolerance = double(fcl_rs::leafTolerance<S>(S(2), zero, zero, zero));  // lengths below 2
+  Tally tally;
+  for (int m = 0; m <= 8; m += 2)
+    for (int k = 1; k <= 9; ++k)
+      for (int n = 0; n < per_case; ++n)
+      {
+        SCOPED_TRACE(what + " radius 1e-" + std::to_string(m) + " angle 1e-" + std::to_string(k) + " #" +
+                     std::to_string(n));
+        const fcl::Capsule<S> shape(S(std::pow(10.0, -m) * (1 + fraction(rng))), S(1 + fraction(rng)));
+        const double r = double(shape.radius), half = double(shape.lz) / 2;
+        // In the capsule's frame: the edge along v through c, at distance about r from the axis across y, and the
+        // triangle's third vertex along w, away from the axis and turned about the edge.
+        const double angle = std::pow(10.0, -k) * (1 + fraction(rng)), turn = (0.3 + fraction(rng)) * (n % 2 ? 1 : -1);
+        const Vec v(std::sin(angle), 0, std::cos(angle)), normal(std::cos(angle), 0, -std::sin(angle));
+        const Vec w = std::cos(turn) * Vec::UnitY() + std::sin(turn) * normal;
+        const Vec c(0, r + 1.5 * unit(rng) * tolerance, 0.5 * half * unit(rng));
+        const Vec local[3] = {c - (0.1 + fraction(rng)) * v, c + (0.1 + fraction(rng)) * v,
+                              c + (0.1 + fraction(rng)) * w};
+        const fcl::Transform3<S> tf1 = fcl::Transform3<S>::Identity(), tf2 = fcl_rs::test::randomPose<S>(rng, S(1));
+        fcl::Vector3<S> p[3];
+        for (int i = 0; i < 3; ++i) p[i] = (tf2.template cast<double>() * local[i]).template cast<S>();
+        const Reference ref{[=](const ExactTriangle& a, const ExactPose& pose) {
+                              return fcl_rs::test::exactCapsule(a, pose, r, half);
+                            },
+                            [](const Vec&) { return Vec::Zero(); }, true};
+        checkTriangle<S>(shape, ref, p, tf1, tf2, false, tally);
+        if (::testing::Test::HasFailure()) return;
+      }
+  // Not vacuous: both verdicts occur.
+  EXPECT_GT(tally.meeting, 9 * per_case) << what;
+  EXPECT_GT(tally.apart, 9 * per_case) << what;
+}
+
 }  // namespace
 
 /// Triangles with coinciding or nearly collinear vertices (cases fuzz_mesh_shape found, issue 27). The closest-point

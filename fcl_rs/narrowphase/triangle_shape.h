@@ -147,33 +147,14 @@ inline Vec closestOnTriangle(const Vec t[3], const Vec& x)
   return closestOnTriangle(t, x, w);
 }
 
-/// Closest points of segments [p0, p1] and [q0, q1] (Ericson's, degenerate segments included).
+/// Closest points of segments [p0, p1] and [q0, q1], degenerate segments included: the mesh-mesh leaf test's, whose
+/// lines' solution stays accurate for near-parallel segments. The normal equations lost precision as the square of
+/// the angle: a thin capsule's axis passing a triangle edge at a small angle came out farther than the tolerance.
 inline void segmentSegment(const Vec& p0, const Vec& p1, const Vec& q0, const Vec& q1, Closest& best)
 {
-  const Vec d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0, t = 0;
-  if (!(a > 0) && !(e > 0)) {}
-  else if (!(a > 0))
-    t = std::clamp(f / e, 0.0, 1.0);
-  else
-  {
-    const double c = d1.dot(r);
-    if (!(e > 0))
-      s = std::clamp(-c / a, 0.0, 1.0);
-    else
-    {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0)
-        t = 0, s = std::clamp(-c / a, 0.0, 1.0);
-      else if (t > 1)
-        t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
-    }
-  }
-  const Vec x = p0 + s * d1, y = q0 + t * d2;
-  best.keep((x - y).norm(), x, y);
+  detail::ClosestSoFar<double> closest;
+  detail::segmentSegment<double>(p0, p1, q0, q1, closest);
+  best.keep(std::sqrt(closest.sq_distance), closest.on_a, closest.on_b);
 }
 
 /// Closest points of segment [p0, p1] and the box [-h, h] (on_triangle on the segment). Along the segment the
