@@ -146,10 +146,20 @@ def collide_solids(a: Solid, pose_a: ArrayLike, b: Solid, pose_b: ArrayLike, con
     nearest_on_other (world coordinates; None when no vertex is inside the other solid)."""
 
 class Robot:
-    """A URDF robot (SRDF disabled pairs optional) with a self-collision checker."""
+    """A URDF robot (SRDF disabled pairs and planning groups optional) with a self-collision checker."""
     def __init__(self, urdf: str, srdf: str = "", bv: str = "RS") -> None:
         """Loads the URDF and its collision meshes; bv is one of RS, OBBRSS, OBB, RSS (OBB: no minimum_distance).
         KDOP18 raises ValueError: its trees are refitted in place per check, so checks could not share them."""
+    @property
+    def groups(self) -> Dict[str, List[int]]:
+        """The SRDF's planning groups: {name: the configuration indices the group moves, ascending} (empty
+        without an SRDF; read on first use, RuntimeError naming the file and line on a bad group)."""
+    @property
+    def default_configuration(self) -> npt.NDArray[np.float64]:
+        """MoveIt's default positions: 0 where the limits allow it, else the nearer limit."""
+    def group_state(self, name: str, group: str = "") -> npt.NDArray[np.float64]:
+        """The configuration of the SRDF's <group_state> name (of group, needed when several groups have a
+        state of that name): default_configuration with the state's values."""
     @property
     def name(self) -> str: ...
     @property
@@ -207,11 +217,22 @@ class OcTree:
         the map's frame."""
 
 class Environment:
-    """A URDF robot (SRDF disabled pairs optional) among named obstacles in its root frame: self and world
-    collision per configuration, minimum distance, and exact motion checks of straight joint-space segments."""
+    """A URDF robot (SRDF disabled pairs and planning groups optional) among named obstacles in its root frame:
+    self and world collision per configuration, minimum distance, and exact motion checks of straight joint-space
+    segments."""
     def __init__(self, urdf: str, srdf: str = "", bv: str = "RS") -> None:
         """bv: RS, OBBRSS, OBB or RSS (OBB: no minimum distance and no motion checks); link and obstacle meshes
         are trees of this type. KDOP18 raises ValueError."""
+    @property
+    def groups(self) -> Dict[str, List[int]]:
+        """The SRDF's planning groups: {name: the configuration indices the group moves, ascending} (empty
+        without an SRDF; read on first use, RuntimeError naming the file and line on a bad group)."""
+    @property
+    def default_configuration(self) -> npt.NDArray[np.float64]:
+        """MoveIt's default positions: 0 where the limits allow it, else the nearer limit."""
+    def group_state(self, name: str, group: str = "") -> npt.NDArray[np.float64]:
+        """The configuration of the SRDF's <group_state> name (of group, needed when several groups have a
+        state of that name): default_configuration with the state's values."""
     @property
     def name(self) -> str: ...
     @property

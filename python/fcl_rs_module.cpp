@@ -272,17 +272,70 @@ std::vector<DisabledCollision> disabledCollisionsOf(const std::string& srdf, con
   return srdf.empty() ? std::vector<DisabledCollision>{} : loadDisabledCollisions(srdf, model);
 }
 
+/// The SRDF's planning groups, read when first asked for: an SRDF used only for its disabled pairs needs none.
+class LazyGroups
+{
+public:
+  explicit LazyGroups(std::string srdf) : srdf_(std::move(srdf)) {}
+  const PlanningGroups& of(const RobotModel& model)
+  {
+    if (!groups_) groups_ = srdf_.empty() ? PlanningGroups() : loadPlanningGroups(srdf_, model);
+    return *groups_;
+  }
+
+private:
+  std::string srdf_;
+  std::optional<PlanningGroups> groups_;
+};
+
 /// A robot loaded from URDF (and SRDF), with its self-collision checker.
 struct Robot
 {
   Robot(const std::string& urdf, const std::string& srdf, const std::string& bv)
     : model(loadUrdf(urdf)),
-      checker(model, robotBVType(bv, "fcl_rs.Robot"), disabledCollisionsOf(srdf, model))
+      checker(model, robotBVType(bv, "fcl_rs.Robot"), disabledCollisionsOf(srdf, model)),
+      groups(srdf)
   {
   }
+  const Kinematics<double>& kinematics() const { return checker.kinematics(); }
   RobotModel model;
   SelfCollision<double> checker;
+  LazyGroups groups;
 };
+
+/// The planning-group members of Robot and Environment (`Holder` has model, groups and kinematics()).
+template <typename Holder>
+void bindPlanningGroups(py::class_<Holder>& c, const std::string& api)
+{
+  c.def_property_readonly(
+       "groups",
+       [](Holder& h) {
+         std::map<std::string, std::vector<int>> out;
+         for (const PlanningGroup& g : h.groups.of(h.model).groups) out[g.name] = g.variables;
+         return out;
+       },
+       "The SRDF's planning groups: {name: the configuration indices the group moves, ascending} (empty\n"
+       "without an SRDF; read on first use, RuntimeError naming the file and line on a bad group).")
+      .def_property_readonly(
+          "default_configuration", [](const Holder& h) { return fcl::VectorXd(h.kinematics().defaultConfiguration()); },
+          "MoveIt's default positions: 0 where the limits allow it, else the nearer limit.")
+      .def(
+          "group_state",
+          [api](Holder& h, const std::string& name, const std::string& group) {
+            const PlanningGroups& groups = h.groups.of(h.model);
+            try
+            {
+              return fcl::VectorXd(groups.state(name, group).applyTo(h.kinematics().defaultConfiguration()));
+            }
+            catch (const std::invalid_argument& e)
+            {
+              throw py::value_error(api + ".group_state: " + e.what());
+            }
+          },
+          py::arg("name"), py::arg("group") = "",
+          "The configuration of the SRDF's <group_state> `name` (of `group`, needed when several groups have a\n"
+          "state of that name): default_configuration with the state's values.");
+}
 
 /// A configuration (dof,) or configurations (rows, dof) of a robot with `dof` variables (rows -1: any number):
 /// real numbers, finite.
@@ -403,11 +456,14 @@ struct PyEnvironment
 {
   PyEnvironment(const std::string& urdf, const std::string& srdf, const std::string& bv)
     : model(loadUrdf(urdf)),
-      env(model, robotBVType(bv, "fcl_rs.Environment"), disabledCollisionsOf(srdf, model))
+      env(model, robotBVType(bv, "fcl_rs.Environment"), disabledCollisionsOf(srdf, model)),
+      groups(srdf)
   {
   }
+  const Kinematics<double>& kinematics() const { return env.kinematics(); }
   RobotModel model;
   Environment<double> env;
+  LazyGroups groups;
 #if FCL_HAVE_OCTOMAP
   /// The octree obstacles by name, each with the map version the environment last read.
   std::map<std::string, std::pair<std::shared_ptr<OcTreeMap>, std::uint64_t>> octrees;
@@ -794,7 +850,11 @@ PYBIND11_MODULE(fcl_rs, m)
       "'first_inside_second', 'second_inside_first'), penetration_depth (None unless asked and colliding),\n"
       "deepest_mesh (0 or 1), deepest_vertex and nearest_on_other (world coordinates; None without a vertex inside).");
 
-  py::class_<Robot>(m, "Robot", "A URDF robot (SRDF disabled pairs optional) with a self-collision checker.")
+  py::class_<Robot> robot_class(m, "Robot",
+                                "A URDF robot (SRDF disabled pairs and planning groups optional) with a "
+                                "self-collision checker.");
+  bindPlanningGroups(robot_class, "fcl_rs.Robot");
+  robot_class
       .def(py::init<const std::string&, const std::string&, const std::string&>(), py::arg("urdf"),
            py::arg("srdf") = "", py::arg("bv") = "RS",
            "Loads the URDF and its collision meshes; bv is one of RS, OBBRSS, OBB, RSS (OBB: no minimum_distance).")
@@ -974,10 +1034,13 @@ PYBIND11_MODULE(fcl_rs, m)
           "lengths (K,), in the map's frame.");
 #endif
 
-  py::class_<PyEnvironment>(
+  py::class_<PyEnvironment> environment_class(
       m, "Environment",
-      "A URDF robot (SRDF disabled pairs optional) among named obstacles in its root frame: self and world\n"
-      "collision per configuration, minimum distance, and exact motion checks of straight joint-space segments.")
+      "A URDF robot (SRDF disabled pairs and planning groups optional) among named obstacles in its root frame:\n"
+      "self and world collision per configuration, minimum distance, and exact motion checks of straight\n"
+      "joint-space segments.");
+  bindPlanningGroups(environment_class, "fcl_rs.Environment");
+  environment_class
       .def(py::init<const std::string&, const std::string&, const std::string&>(), py::arg("urdf"),
            py::arg("srdf") = "", py::arg("bv") = "RS",
            "bv: RS, OBBRSS, OBB or RSS (OBB: no minimum distance and no motion checks); link and obstacle meshes\n"

@@ -753,5 +753,130 @@ TEST(RobotErrors, SrdfNamingAnUnknownLinkNamesFileLineAndLink)
   expectError([&] { SelfCollision<double>(robot, BVType::kRS, {{"arm", "elbow", "", ""}}); }, {"elbow", "testbot"});
 }
 
+
+/// The test robot's variables: j1 (0), j2 (1), j3 (2); j4 mimics j3, j0, j5 and j6 are fixed. j2 is passive (in
+/// no group's variables, though a state may set it); the virtual joint places the robot and moves nothing.
+constexpr const char* kTestbotGroups = R"(<robot name="testbot">
+  <group name="shoulder"><joint name="j1"/><joint name="j0"/><joint name="world_joint"/></group>
+  <group name="by_link"><link name="forearm"/><link name="base"/></group>
+  <group name="chain"><chain base_link="arm" tip_link="tip"/></group>
+  <group name="whole"><group name="later"/><group name="shoulder"/></group>
+  <group name="later"><joint name="j4"/><joint name="j3"/></group>
+  <group_state name="up" group="whole">
+    <joint name="j1" value="0.5"/><joint name="j3" value=" 0.25 "/><joint name="j4" value="0"/>
+  </group_state>
+  <group_state name="up" group="chain"><joint name="j2" value="-1"/></group_state>
+  <group_state name="placed" group="shoulder"><joint name="world_joint" value="1 2 3 0 0 0 1"/></group_state>
+  <virtual_joint name="world_joint" type="floating" parent_frame="world" child_link="base"/>
+  <passive_joint name="j2"/>
+</robot>
+)";
+
+TEST(Srdf, GroupsHoldTheVariablesOfTheirJointsLinksChainsAndSubgroups)
+{
+  // j3's lower limit above 0, so that its default position is that limit.
+  const std::string urdf =
+      writeTestbot(replaced(kTestbotUrdf, R"(lower="0" upper="0.3")", R"(lower="0.1" upper="0.3")"));
+  const RobotModel robot = loadUrdf(urdf);
+  const std::string srdf = (fs::path(urdf).parent_path() / "groups.srdf").string();
+  writeFile(srdf, kTestbotGroups);
+  const PlanningGroups planning = loadPlanningGroups(srdf, robot);
+  ASSERT_EQ(planning.groups.size(), 5u);
+  const std::map<std::string, std::vector<int>> expected = {
+      {"shoulder", {0}}, {"by_link", {}}, {"chain", {2}}, {"whole", {0, 2}}, {"later", {2}}};
+  for (const PlanningGroup& g : planning.groups)
+  {
+    EXPECT_EQ(g.variables, expected.at(g.name)) << g.name;
+    EXPECT_EQ(g.dof, 3);
+  }
+  EXPECT_EQ(planning.groups[0].source, srdf + ":2");
+  expectError([&] { planning.group("arm"); }, {"'arm'", "'shoulder'", "'later'"});
+
+  const Kinematics<double> kinematics(robot);
+  const fcl::VectorXd defaults = kinematics.defaultConfiguration();
+  EXPECT_EQ(defaults, fcl::Vector3d(0, 0, 0.1));
+  EXPECT_EQ(Kinematics<float>(robot).defaultConfiguration(), fcl::Vector3f(0, 0, 0.1f));
+  const GroupState& up = planning.state("up", "whole");
+  EXPECT_EQ(up.values, (std::vector<std::pair<int, double>>{{0, 0.5}, {2, 0.25}}));  // j4's value is its leader's
+  EXPECT_EQ(up.applyTo(defaults), fcl::Vector3d(0.5, 0, 0.25));
+  EXPECT_EQ(planning.state("up", "chain").applyTo(defaults), fcl::Vector3d(0, -1, 0.1));
+  EXPECT_TRUE(planning.state("placed").values.empty());
+  expectError([&] { planning.state("up"); }, {"'up'", "'whole'", "'chain'", "name the group"});
+  expectError([&] { planning.state("down"); }, {"'down'"});
+
+  const PlanningGroup& whole = planning.group("whole");
+  const fcl::VectorXd full = whole.expand(fcl::VectorXd(Eigen::Vector2d(1, 0.2)), defaults);
+  EXPECT_EQ(full, fcl::Vector3d(1, 0, 0.2));
+  EXPECT_EQ(whole.extract(full), Eigen::Vector2d(1, 0.2));
+  const fcl::VectorXf full_float =
+      whole.expand(fcl::VectorXf(Eigen::Vector2f(1, 0.2f)), fcl::VectorXf(defaults.cast<float>()));
+  EXPECT_EQ(full_float, fcl::Vector3f(1, 0, 0.2f));
+  expectError([&] { whole.expand(fcl::VectorXd(fcl::Vector3d(1, 2, 3)), defaults); },
+              {"'whole'", "3 values for its 2 variables"});
+  expectError([&] { whole.extract(fcl::VectorXd(Eigen::Vector2d(1, 2))); },
+              {"'whole'", "configuration of 2 values", "has 3 variables"});
+}
+
+TEST(Srdf, PandaGroupsAndDefaultState)
+{
+  const RobotModel* panda = sharedRobot("panda");
+  if (!panda) FCL_RS_MISSING_SHARED_DATA("robots/panda");
+  const std::string srdf = test::sharedData("robots/panda/panda.srdf");
+  const PlanningGroups planning = loadPlanningGroups(srdf, *panda);
+  EXPECT_EQ(planning.group("arm").variables, (std::vector<int>{0, 1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(planning.group("hand").variables, (std::vector<int>{7}));
+  EXPECT_EQ(planning.group("arm_and_hand").variables, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
+  const Kinematics<double> kinematics(*panda);
+  const fcl::VectorXd defaults = kinematics.defaultConfiguration();
+  EXPECT_EQ(defaults[3], kinematics.upper()[3]);  // panda_joint4 cannot be 0
+  fcl::VectorXd ready(8);
+  ready << 0, -0.785398, 0, -2.35619, 0, 1.5707, 0.785398, 0.001;
+  const fcl::VectorXd state = planning.state("default").applyTo(defaults);
+  EXPECT_EQ(state, ready);
+  // The SRDF's own pose: within the limits and free of self-collision.
+  EXPECT_TRUE(kinematics.withinLimits(state));
+  const SelfCollision<double> checker(*panda, BVType::kRS, sharedSrdf(*panda));
+  EXPECT_FALSE(checker.query(state, SelfCheckRequest()).colliding);
+}
+
+TEST(RobotErrors, BadGroupsNameFileLineAndElement)
+{
+  const std::string urdf = writeTestbot();
+  const RobotModel robot = loadUrdf(urdf);
+  const fs::path dir = fs::path(urdf).parent_path();
+  int count = 0;
+  const auto expectGroupError = [&](const std::string& body, const std::vector<std::string>& parts) {
+    const std::string srdf = (dir / ("bad_groups_" + std::to_string(count++) + ".srdf")).string();
+    writeFile(srdf, "<robot name=\"testbot\">\n" + body + "\n</robot>\n");
+    std::vector<std::string> all = parts;
+    all.push_back(srdf);
+    expectError([&] { loadPlanningGroups(srdf, robot); }, all);
+  };
+  expectGroupError(R"(<group name="a"/>
+<group name="a"/>)", {"line 3", "'a'", "defined twice"});
+  expectGroupError(R"(<group name="a"><group name="b"/></group>
+<group name="b"><group name="a"/></group>)", {"includes itself"});
+  expectGroupError(R"(<group name="a"><joint name="j9"/></group>)", {"line 2", "'j9'", "'testbot'"});
+  expectGroupError(R"(<group name="a"><link name="elbow"/></group>)", {"'elbow'", "'testbot'"});
+  expectGroupError(R"(<group name="a"><chain base_link="tip" tip_link="arm"/></group>)", {"'tip'", "not an ancestor"});
+  expectGroupError(R"(<group name="a"><chain base_link="arm"/></group>)", {"<chain>", "tip_link"});
+  expectGroupError(R"(<group name="a"><group name="c"/></group>)", {"'c'", "not defined"});
+  expectGroupError(R"(<group name="a"><joints name="j1"/></group>)", {"<joints>"});
+  expectGroupError(R"(<group/>)", {"<group>", "name"});
+  expectGroupError(R"(<group_state name="s" group="a"/>)", {"'s'", "'a'", "not defined"});
+  expectGroupError(R"(<group name="a"><joint name="j1"/></group>
+<group_state name="s" group="a"><joint name="j2" value="0"/></group_state>)", {"line 3", "'j2'", "does not hold"});
+  expectGroupError(R"(<group name="a"><joint name="j0"/></group>
+<group_state name="s" group="a"><joint name="j0" value="0"/></group_state>)", {"fixed joint", "'j0'"});
+  for (const char* value : {"abc", "1 2", "nan", "inf", "", "1e999"})
+    expectGroupError(R"(<group name="a"><joint name="j1"/></group>
+<group_state name="s" group="a"><joint name="j1" value=")" + std::string(value) + R"("/></group_state>)",
+                     {"'j1'", "not one finite number"});
+  expectGroupError(R"(<group name="a"><joint name="j1"/></group>
+<group_state name="s" group="a"/>
+<group_state name="s" group="a"/>)", {"line 4", "defined twice"});
+  expectError([&] { loadPlanningGroups((dir / "none.srdf").string(), robot); }, {"none.srdf", "cannot open"});
+}
+
 }  // namespace
 }  // namespace fcl_rs

@@ -87,6 +87,12 @@ public:
   /// Limits of each variable ([-pi, pi] for continuous joints).
   const fcl::VectorX<S>& lower() const { return lower_; }
   const fcl::VectorX<S>& upper() const { return upper_; }
+  /// MoveIt's default positions: 0 where the limits allow it, else the nearer limit. The variables a planning
+  /// group does not move stay there unless a group state (PlanningGroups) or the caller says otherwise.
+  fcl::VectorX<S> defaultConfiguration() const
+  {
+    return fcl::VectorX<S>::Zero(lower_.size()).cwiseMax(lower_).cwiseMin(upper_);
+  }
 
   bool withinLimits(const fcl::VectorX<S>& q) const
   {

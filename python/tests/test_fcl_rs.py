@@ -105,6 +105,36 @@ def test_robot_names_limits_and_batches(chain_urdf, rng):
     assert not flags["colliding"].flags.owndata
 
 
+def test_planning_groups_map_a_planner_joints_onto_the_configuration(chain_urdf, tmp_path):
+    srdf = tmp_path / "chain.srdf"
+    srdf.write_text("""<robot name="folding_chain">
+  <group name="lower"><chain base_link="link0" tip_link="link2"/></group>
+  <group name="upper"><joint name="joint5"/><link name="link3"/></group>
+  <group name="both"><group name="upper"/><group name="lower"/></group>
+  <group_state name="folded" group="both"><joint name="joint1" value="1.5"/><joint name="joint5" value="-2"/>
+  </group_state>
+</robot>""")
+    for cls in (fcl_rs.Robot, fcl_rs.Environment):
+        robot = cls(chain_urdf, str(srdf))
+        assert robot.groups == {"lower": [0, 1], "upper": [2, 4], "both": [0, 1, 2, 4]}
+        assert np.array_equal(robot.default_configuration, np.zeros(5))
+        assert np.array_equal(robot.group_state("folded"), [1.5, 0, 0, 0, -2])
+        assert np.array_equal(robot.group_state("folded", group="both"), [1.5, 0, 0, 0, -2])
+        # A planner's state for a group goes into a whole configuration by the group's indices.
+        q = robot.default_configuration
+        q[robot.groups["upper"]] = [0.5, -0.5]
+        assert np.array_equal(q, [0, 0, 0.5, 0, -0.5])
+        with pytest.raises(ValueError, match=r"group_state: fcl_rs: no group state 'open' of group 'both'"):
+            robot.group_state("open", group="both")
+        assert cls(chain_urdf).groups == {}
+    bad = tmp_path / "bad.srdf"
+    bad.write_text('<robot name="folding_chain">\n  <group name="a"><joint name="elbow"/></group>\n</robot>\n')
+    # Read on first use: an SRDF kept for its disabled pairs loads, its groups raise naming the file and line.
+    robot = fcl_rs.Robot(chain_urdf, str(bad))
+    with pytest.raises(RuntimeError, match=r"bad.srdf' line 2: joint 'elbow' is not a joint of robot"):
+        robot.groups
+
+
 def test_every_supported_bv_type_checks_like_rs(chain_urdf):
     rs = fcl_rs.Robot(chain_urdf)
     q = rs.random_configurations(100, seed=11)
