@@ -3,6 +3,9 @@
 //
 //   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf                 one seeded query on a table-and-shelf scene, with the
 //                                                            path re-checked segment by segment
+//   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf --group NAME [--rest STATE]  the same, planned in the SRDF group's
+//                                                            joints, the others at the default configuration (or
+//                                                            at the SRDF's group state STATE)
 //   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf --motions N [STEP]  exact motion checks against discrete ones at
 //                                                            0.01 rad on N seeded segments
 //   fcl_rs_ompl_planner ROBOT.urdf ROBOT.srdf --benchmark N [BUDGET] [--validator discrete|exact] [--bv RS,OBB,...]
@@ -68,6 +71,26 @@ Eigen::Map<const Eigen::VectorXd> toVector(const ob::State* state, int dof)
   return {state->as<ob::RealVectorStateSpace::StateType>()->values, dof};
 }
 
+/// What OMPL plans in: every variable of the robot, or those of an SRDF planning group with the others held where
+/// `rest` (a whole configuration) puts them.
+struct PlanningSpace
+{
+  const fcl_rs::PlanningGroup* group = nullptr;
+  Eigen::VectorXd rest;
+
+  int dimension() const { return group ? int(group->variables.size()) : int(rest.size()); }
+  /// The configuration variable of the space's i-th coordinate.
+  int variable(int i) const { return group ? group->variables[std::size_t(i)] : i; }
+  /// The robot's configuration at an OMPL state.
+  void configuration(const ob::State* state, Eigen::VectorXd& q) const
+  {
+    if (group)
+      q = group->expand(Eigen::VectorXd(toVector(state, dimension())), rest);
+    else
+      q = toVector(state, dimension());
+  }
+};
+
 /// Number of calls of one kind of check and, when `timed`, their time (two clock reads per call, which a planner
 /// does not pay: the planning time is measured in a run without them).
 struct Tally
@@ -82,16 +105,16 @@ struct Tally
 class ValidityChecker : public ob::StateValidityChecker
 {
 public:
-  ValidityChecker(const ob::SpaceInformationPtr& si, const Environment<double>& env, Tally& tally,
-                  std::vector<Eigen::VectorXd>* checked)
-    : ob::StateValidityChecker(si), env_(env), dof_(env.kinematics().numVariables()), tally_(tally), checked_(checked)
+  ValidityChecker(const ob::SpaceInformationPtr& si, const Environment<double>& env, const PlanningSpace& space,
+                  Tally& tally, std::vector<Eigen::VectorXd>* checked)
+    : ob::StateValidityChecker(si), env_(env), space_(space), tally_(tally), checked_(checked)
   {
   }
   bool isValid(const ob::State* state) const override
   {
     // Per thread and reused: a planner checks millions of states, and an allocation per check is not free.
     static thread_local Eigen::VectorXd q;
-    q = toVector(state, dof_);
+    space_.configuration(state, q);
     const double start = tally_.timed ? threadSeconds() : 0;
     const bool valid = !env_.query(q).colliding;
     if (tally_.timed) tally_.seconds += threadSeconds() - start;
@@ -102,7 +125,7 @@ public:
 
 private:
   const Environment<double>& env_;
-  int dof_;
+  const PlanningSpace& space_;
   Tally& tally_;
   std::vector<Eigen::VectorXd>* checked_;
 };
@@ -111,19 +134,19 @@ private:
 class ExactMotionValidator : public ob::MotionValidator
 {
 public:
-  ExactMotionValidator(const ob::SpaceInformationPtr& si, const Environment<double>& env)
-    : ob::MotionValidator(si), env_(env), dof_(env.kinematics().numVariables())
+  ExactMotionValidator(const ob::SpaceInformationPtr& si, const Environment<double>& env, const PlanningSpace& space)
+    : ob::MotionValidator(si), env_(env), space_(space)
   {
   }
   bool checkMotion(const ob::State* s1, const ob::State* s2) const override
   {
     fcl_rs::MotionRequest<double> request;
     request.earliest = false;  // a yes-or-no question: stop at any colliding configuration
-    return record(env_.checkMotion(toVector(s1, dof_), toVector(s2, dof_), request)).colliding == false;
+    return record(env_.checkMotion(end(s1, 0), end(s2, 1), request)).colliding == false;
   }
   bool checkMotion(const ob::State* s1, const ob::State* s2, std::pair<ob::State*, double>& last_valid) const override
   {
-    const fcl_rs::MotionResult<double> r = record(env_.checkMotion(toVector(s1, dof_), toVector(s2, dof_)));
+    const fcl_rs::MotionResult<double> r = record(env_.checkMotion(end(s1, 0), end(s2, 1)));
     if (r.colliding)
     {
       last_valid.second = r.free_until;
@@ -133,13 +156,20 @@ public:
   }
 
 private:
+  /// The segment's end `which` (0 or 1) as a configuration, per thread and reused.
+  const Eigen::VectorXd& end(const ob::State* state, int which) const
+  {
+    static thread_local Eigen::VectorXd q[2];
+    space_.configuration(state, q[which]);
+    return q[which];
+  }
   const fcl_rs::MotionResult<double>& record(const fcl_rs::MotionResult<double>& r) const
   {
     (r.colliding ? invalid_ : valid_)++;
     return r;
   }
   const Environment<double>& env_;
-  int dof_;
+  const PlanningSpace& space_;
 };
 
 /// Times any motion validator (OMPL's discrete one included: its state checks count in both tallies).
@@ -228,31 +258,31 @@ struct QueryStats
   std::string path_digest;  ///< the path's states printed in full precision, hashed
 };
 
-/// Plans one seeded query (start and goal drawn free from `seed`) with a budget of checks (state checks, OMPL's
-/// discrete validator's included, plus motion checks). With `checked` given, the planner's state checks are
-/// appended to it and every check is timed; without, only the planning is (QueryStats::state_seconds and
-/// motion_seconds stay 0).
-QueryStats plan(const Environment<double>& env, bool exact_motions, std::uint64_t seed, long budget,
-                og::PathGeometric* path_out = nullptr, std::vector<Eigen::VectorXd>* checked = nullptr)
+/// Plans one seeded query in `planning` (start and goal drawn free from `seed`) with a budget of checks (state
+/// checks, OMPL's discrete validator's included, plus motion checks). With `checked` given, the planner's state
+/// checks are appended to it and every check is timed; without, only the planning is (QueryStats::state_seconds
+/// and motion_seconds stay 0).
+QueryStats plan(const Environment<double>& env, const PlanningSpace& planning, bool exact_motions, std::uint64_t seed,
+                long budget, og::PathGeometric* path_out = nullptr, std::vector<Eigen::VectorXd>* checked = nullptr)
 {
   const fcl_rs::Kinematics<double>& kin = env.kinematics();
-  const int dof = kin.numVariables();
+  const int dof = planning.dimension();
   auto space = std::make_shared<ob::RealVectorStateSpace>(dof);
   ob::RealVectorBounds bounds(dof);
   for (int i = 0; i < dof; ++i)
   {
-    bounds.setLow(i, kin.lower()[i]);
-    bounds.setHigh(i, kin.upper()[i]);
+    bounds.setLow(i, kin.lower()[planning.variable(i)]);
+    bounds.setHigh(i, kin.upper()[planning.variable(i)]);
   }
   space->setBounds(bounds);
   auto si = std::make_shared<ob::SpaceInformation>(space);
   Tally states, motions;
   states.timed = motions.timed = checked != nullptr;
-  si->setStateValidityChecker(std::make_shared<ValidityChecker>(si, env, states, checked));
+  si->setStateValidityChecker(std::make_shared<ValidityChecker>(si, env, planning, states, checked));
   const std::size_t checked_before = checked ? checked->size() : 0;
   std::shared_ptr<ob::MotionValidator> inner;
   if (exact_motions)
-    inner = std::make_shared<ExactMotionValidator>(si, env);
+    inner = std::make_shared<ExactMotionValidator>(si, env, planning);
   else
     inner = std::make_shared<ob::DiscreteMotionValidator>(si);
   si->setMotionValidator(std::make_shared<TimedMotionValidator>(si, inner, motions));
@@ -262,13 +292,14 @@ QueryStats plan(const Environment<double>& env, bool exact_motions, std::uint64_
   const auto freeConfiguration = [&] {
     for (;;)
     {
-      const Eigen::VectorXd q = kin.randomConfiguration(rng);
+      Eigen::VectorXd q = kin.randomConfiguration(rng);
+      if (planning.group) q = planning.group->expand(planning.group->extract(q), planning.rest);
       if (!env.query(q).colliding) return q;
     }
   };
   const Eigen::VectorXd start = freeConfiguration(), goal = freeConfiguration();
   ob::ScopedState<> s(space), g(space);
-  for (int i = 0; i < dof; ++i) s[i] = start[i], g[i] = goal[i];
+  for (int i = 0; i < dof; ++i) s[i] = start[planning.variable(i)], g[i] = goal[planning.variable(i)];
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
   pdef->setStartAndGoalStates(s, g);
   og::RRTConnect planner(si);
@@ -336,12 +367,14 @@ std::string benchmarkRun(const std::string& urdf, const std::string& srdf, fcl_r
   const fcl_rs::RobotModel robot = fcl_rs::loadUrdf(urdf);
   Environment<double> env(robot, bv, fcl_rs::loadDisabledCollisions(srdf, robot));
   addScene(env, reachOf(robot), clutter);
+  const PlanningSpace every_variable{nullptr, env.kinematics().defaultConfiguration()};
   std::ostringstream out;
   out.precision(9);
   std::vector<Eigen::VectorXd> checked;
   for (int i = 0; i < queries; ++i)
   {
-    const QueryStats q = plan(env, exact, 1000 + std::uint64_t(i), budget, nullptr, timed_checks ? &checked : nullptr);
+    const QueryStats q =
+        plan(env, every_variable, exact, 1000 + std::uint64_t(i), budget, nullptr, timed_checks ? &checked : nullptr);
     out << i << ' ' << q.solved << ' ' << q.state_checks << ' ' << q.motion_checks << ' ' << q.path_states << ' '
         << (q.path_digest.empty() ? "-" : q.path_digest) << ' ' << q.plan_seconds << ' ' << q.state_seconds << ' '
         << q.motion_seconds << '\n';
@@ -507,8 +540,8 @@ int run(int argc, char** argv)
   if (argc < 3)
   {
     std::cerr << "usage: " << argv[0]
-              << " ROBOT.urdf ROBOT.srdf [--benchmark QUERIES [BUDGET] [--validator discrete|exact] [--bv RS,OBB,...]"
-                 " [--clutter K] |"
+              << " ROBOT.urdf ROBOT.srdf [--group NAME [--rest STATE] |"
+                 " --benchmark QUERIES [BUDGET] [--validator discrete|exact] [--bv RS,OBB,...] [--clutter K] |"
                  " --motions SEGMENTS [STEP]]\n";
     return 2;
   }
@@ -550,20 +583,49 @@ int run(int argc, char** argv)
     return benchmark(urdf, srdf, std::stoi(argv[4]), budget, validators, bvs, clutter);
   }
 
+  // Without --group OMPL plans in every variable; with it, in the SRDF group's, the others held at the default
+  // configuration or at a group state of the SRDF.
+  std::string group_name, rest_state;
+  for (int arg = 3; arg < argc; arg += 2)
+  {
+    const std::string option = argv[arg];
+    if (arg + 1 < argc && option == "--group")
+      group_name = argv[arg + 1];
+    else if (arg + 1 < argc && option == "--rest")
+      rest_state = argv[arg + 1];
+    else
+    {
+      std::cerr << "usage: " << argv[0] << " ROBOT.urdf ROBOT.srdf [--group NAME [--rest STATE]]\n";
+      return 2;
+    }
+  }
   ompl::RNG::setSeed(7);
   ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
   const fcl_rs::RobotModel robot = fcl_rs::loadUrdf(urdf);
   Environment<double> env(robot, fcl_rs::BVType::kRS, fcl_rs::loadDisabledCollisions(srdf, robot));
   addScene(env, reachOf(robot));
+  const fcl_rs::PlanningGroups groups =
+      group_name.empty() && rest_state.empty() ? fcl_rs::PlanningGroups() : fcl_rs::loadPlanningGroups(srdf, robot);
+  PlanningSpace planning{nullptr, env.kinematics().defaultConfiguration()};
+  if (!group_name.empty()) planning.group = &groups.group(group_name);
+  if (!rest_state.empty()) planning.rest = groups.state(rest_state).applyTo(planning.rest);
   og::PathGeometric path(nullptr);
-  const QueryStats q = plan(env, /*exact_motions=*/true, 1000, 100000, &path);
-  std::cout << robot.name << ": " << (q.solved ? "solved" : "not solved") << " with " << q.state_checks
-            << " state checks and " << q.motion_checks << " motion checks; path of " << q.path_states << " states\n";
+  const QueryStats q = plan(env, planning, /*exact_motions=*/true, 1000, 100000, &path);
+  std::cout << robot.name << (planning.group ? " (group " + group_name + ")" : std::string()) << ": "
+            << (q.solved ? "solved" : "not solved") << " with " << q.state_checks << " state checks and "
+            << q.motion_checks << " motion checks; path of " << q.path_states << " states\n";
   if (!q.solved) return 1;
-  // Every segment of the path is free, for every configuration on it (a second, independent check).
-  const int dof = env.kinematics().numVariables();
-  std::vector<Eigen::VectorXd> waypoints;
-  for (std::size_t i = 0; i < path.getStateCount(); ++i) waypoints.push_back(toVector(path.getState(i), dof));
+  // Every segment of the path is free, for every configuration on it (a second, independent check); with a group,
+  // the variables outside it stayed where they were.
+  std::vector<Eigen::VectorXd> waypoints(path.getStateCount());
+  for (std::size_t i = 0; i < path.getStateCount(); ++i) planning.configuration(path.getState(i), waypoints[i]);
+  if (planning.group)
+    for (const Eigen::VectorXd& w : waypoints)
+      if (planning.group->expand(planning.group->extract(planning.rest), w) != planning.rest)
+      {
+        std::cout << "a waypoint moved a variable outside group " << group_name << "\n";
+        return 1;
+      }
   const fcl_rs::MotionResult<double> whole = env.checkPath(waypoints);
   std::cout << "path re-checked: " << (whole.colliding ? "COLLIDES" : "free") << "\n";
   return whole.colliding ? 1 : 0;
