@@ -147,6 +147,44 @@ TEST(MeshIo, PolygonsAreTriangulatedAndStrayLinesDropped)
   validateMesh(points_and_polygons.vertices, points_and_polygons.triangles);
 }
 
+/// A one-triangle Collada file with the given up axis, in millimetres.
+std::string colladaTriangle(const std::string& up_axis)
+{
+  return R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="millimeter" meter="0.001"/><up_axis>)" +
+         up_axis + R"(</up_axis></asset>
+  <library_geometries><geometry id="g"><mesh>
+    <source id="p"><float_array id="a" count="9">0 0 0 1000 0 0 0 0 2000</float_array>
+      <technique_common><accessor source="#a" count="3" stride="3">
+        <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+      </accessor></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#g"/></node></visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+)";
+}
+
+TEST(MeshIo, ColladaKeepsItsAxesAndAppliesItsUnit)
+{
+  // As ROS reads a URDF's meshes: the file's coordinates whatever its up axis (assimp alone turns Z_UP and X_UP
+  // files to Y up), scaled from millimetres to metres.
+  for (const char* up_axis : {"Z_UP", "Y_UP", "X_UP"})
+  {
+    const std::string file = writeFile(std::string("triangle_") + up_axis + ".dae", colladaTriangle(up_axis));
+    const auto mesh = loadMesh<double>(file);
+    ASSERT_EQ(mesh.triangles.size(), 1u) << up_axis;
+    const std::vector<fcl::Vector3d> expected = {{0, 0, 0}, {1, 0, 0}, {0, 0, 2}};
+    for (int k = 0; k < 3; ++k)
+      EXPECT_LT((mesh.vertices[mesh.triangles[0][k]] - expected[std::size_t(k)]).norm(), 1e-12)
+          << up_axis << " vertex " << k << ": " << mesh.vertices[mesh.triangles[0][k]].transpose();
+  }
+}
+
 template <typename S>
 class BadMeshes : public ::testing::Test
 {

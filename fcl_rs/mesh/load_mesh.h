@@ -11,7 +11,8 @@ namespace fcl_rs {
 
 /// Loads every mesh of a file (any format assimp reads: OBJ, STL, PLY, DAE, OFF, ...) into one
 /// triangle mesh, with node transforms applied, polygons triangulated and identical vertices joined;
-/// point and line primitives are dropped. The result passes validateMesh. Throws std::runtime_error
+/// point and line primitives are dropped. Collada files keep their own axes (no turn of a Z_UP file to Y up, as
+/// ROS reads them) and their <unit> scale. The result passes validateMesh. Throws std::runtime_error
 /// naming the file and the problem when it cannot be read or parsed, a face index is out of range, a
 /// coordinate is not finite (naming the vertex), or it holds no triangles (points or lines only).
 TriangleMesh<double> loadMeshFile(const std::string& path);

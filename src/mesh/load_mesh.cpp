@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include <assimp/Importer.hpp>
+#include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
@@ -127,6 +128,10 @@ TriangleMesh<double> loadMeshFile(const std::string& path)
 {
   checkHeader(path);
   Assimp::Importer importer;
+  // A Collada file's coordinates as they are, Z up or not: URDF and ROS read meshes that way (RViz and MoveIt's
+  // geometric_shapes undo assimp's turn to Y up), and a Z_UP collision mesh turned by a quarter would be checked
+  // where the robot is not. Its <unit> still scales it, as RViz and Gazebo do.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   // Validation alone first (assimp checks face indices against the vertex count), then our own check of the raw
   // coordinates, then the post-processing.
   const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
