@@ -401,8 +401,6 @@ struct Environment<S>::Impl
     std::vector<std::pair<S, S>> certified;
     fcl::VectorX<S> q;
     std::vector<int> near;  ///< motionPairs' obstacles of one link
-    std::vector<Tf<S>> start_poses;
-    std::vector<typename LinkSweeps<S>::Terms> start_terms;
   };
 
   Impl(const RobotModel& robot, BVType bv_type, const std::vector<DisabledCollision>& disabled)
@@ -876,28 +874,21 @@ struct Environment<S>::Impl
 
   // ---- motion checks ----
 
-  /// The pairs a motion from `from` by `step` (per unit parameter) certifies, into x.pairs: the self pairs (made
-  /// once, selfMotionPairs), then each link with the obstacles its ball may reach over the whole motion: those
-  /// meeting the box around the ball at the start grown by the most it travels (LinkSweeps), cut to the box around
-  /// the root that holds the ball in every configuration, and the planes and halfspaces; with every obstacle when
-  /// the broad phase is a single leaf (a box would save nothing).
-  void motionPairs(const fcl::VectorX<S>& from, const fcl::VectorX<S>& step, S pad, Scratch& x) const
+  /// The pairs a motion from the placed sample `start` by `step` (per unit parameter) certifies, into x.pairs: the
+  /// self pairs (made once, selfMotionPairs), then each link with the obstacles its ball may reach over the whole
+  /// motion: those meeting the box around the ball at the start grown by the most it travels (LinkSweeps), cut to
+  /// the box around the root that holds the ball in every configuration, and the planes and halfspaces; with every
+  /// obstacle when the broad phase is a single leaf (a box would save nothing).
+  void motionPairs(Sample& start, const fcl::VectorX<S>& step, S pad, Scratch& x) const
   {
     x.pairs = self_motion_pairs;
     const bool cull = obstacle_tree.branches();
-    if (cull)
-    {
-      self.kinematics().linkPoses(from, x.start_poses);
-      x.start_terms.resize(sweeps.termsSize());
-    }
     for (int link : geometric_links)
     {
       if (cull)
       {
-        const WorldSphere<S> ball = place(links[link], x.start_poses[link]);
-        sweeps.linkTerms(x.start_poses, step, link, x.start_terms);
-        const S reach =
-            ball.reach + S(sweeps.sweep(x.start_terms, link, sweeps.depth(link), 1.0) * (1 + 1e-6)) + pad;
+        const WorldSphere<S>& ball = start.spheres[link];
+        const S reach = ball.reach + S(sweep(start, step, link, sweeps.depth(link), S(1)) * (1 + 1e-6)) + pad;
         const fcl::Vector3<S> workspace = fcl::Vector3<S>::Constant(S(sweeps.workspace(link) * (1 + 1e-6)) + pad);
         obstaclesMeeting(fcl::AABB<S>((ball.centre - fcl::Vector3<S>::Constant(reach)).cwiseMax(-workspace),
                                       (ball.centre + fcl::Vector3<S>::Constant(reach)).cwiseMin(workspace)),
@@ -920,10 +911,8 @@ struct Environment<S>::Impl
     return pairs;
   }
 
-  /// Sets s to the configuration at t, the bound of each pair in active[begin, end) its cheap gap (see gap); no
-  /// other pair's bound is read there. q: scratch.
-  void sampleAt(Sample& s, const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, S t,
-                const std::vector<MotionPair>& pairs, const int* begin, const int* end, fcl::VectorX<S>& q) const
+  /// Places sample s at parameter t: its configuration's poses and link balls, no sweep terms yet. q: scratch.
+  void placeSample(Sample& s, const fcl::VectorX<S>& from, const fcl::VectorX<S>& to, S t, fcl::VectorX<S>& q) const
   {
     s.t = t;
     q = from + t * (to - from);
@@ -932,6 +921,12 @@ struct Environment<S>::Impl
     s.terms.resize(sweeps.termsSize());
     s.has_terms.assign(links.size(), 0);
     s.colliding = false;
+  }
+
+  /// Sets the bound of each pair in [begin, end) of the placed sample s to its cheap gap (see gap), none asked for
+  /// yet; no other pair's bound is read there.
+  void boundSample(Sample& s, const std::vector<MotionPair>& pairs, const int* begin, const int* end) const
+  {
     s.bound.resize(pairs.size());
     for (const int* i = begin; i != end; ++i) s.bound[*i] = gap(s, pairs[*i]);
     s.asked.assign(pairs.size(), 0);
@@ -946,20 +941,24 @@ struct Environment<S>::Impl
     return std::max(S(0), obstacleGap(ball, obstacles[p.obstacle]));
   }
 
+  /// The most the link's ball moves relative to its ancestor `depth` joints up over the interval of length dt
+  /// starting at s (LinkSweeps::sweep), with the link's terms taken at s once.
+  double sweep(Sample& s, const fcl::VectorX<S>& step, int link, int depth, S dt) const
+  {
+    if (!s.has_terms[link])
+    {
+      sweeps.linkTerms(s.poses, step, link, s.terms);
+      s.has_terms[link] = 1;
+    }
+    return sweeps.sweep(s.terms, link, depth, double(dt));
+  }
+
   /// The most the pair's bodies move relative to each other over the interval of length dt starting at s, padded
   /// by `pad` for rounding.
   S moved(Sample& s, const fcl::VectorX<S>& step, const MotionPair& p, S dt, S pad) const
   {
-    const auto sweep = [&](int link, int depth) {
-      if (!s.has_terms[link])
-      {
-        sweeps.linkTerms(s.poses, step, link, s.terms);
-        s.has_terms[link] = 1;
-      }
-      return sweeps.sweep(s.terms, link, depth, double(dt));
-    };
-    double m = sweep(p.link, p.depth);
-    if (p.other_link >= 0) m += sweep(p.other_link, p.other_depth);
+    double m = sweep(s, step, p.link, p.depth, dt);
+    if (p.other_link >= 0) m += sweep(s, step, p.other_link, p.other_depth, dt);
     return S(m * (1 + 1e-6)) + pad;
   }
 
@@ -1042,7 +1041,10 @@ struct Environment<S>::Impl
     const fcl::VectorX<S> step = to - from;
     // Rounding of poses and distances in S, relative to the robot's reach.
     const S pad = S(32) * std::numeric_limits<S>::epsilon() * S(1 + sweeps.reach());
-    motionPairs(from, step, pad, x);
+    // The start is placed first: its poses, balls and sweep terms also choose the pairs.
+    if (x.samples.empty()) x.samples.emplace_back();
+    placeSample(x.samples[0], from, to, S(0), x.q);
+    motionPairs(x.samples[0], step, pad, x);
     const S shortest = std::max(S(1e-9), S(16) * std::numeric_limits<S>::epsilon());
 
     MotionResult<S> result;
@@ -1054,13 +1056,14 @@ struct Environment<S>::Impl
     x.active.resize(pairs.size());
     for (std::size_t i = 0; i < pairs.size(); ++i) x.active[i] = int(i);
     x.waiting.push_back({0, 1, 0, pairs.size()});
-    x.used = 0;
     const auto newSample = [&](S t, const int* begin, const int* end) {
       if (x.used == x.samples.size()) x.samples.emplace_back();
-      sampleAt(x.samples[x.used], from, to, t, pairs, begin, end, x.q);
+      placeSample(x.samples[x.used], from, to, t, x.q);
+      boundSample(x.samples[x.used], pairs, begin, end);
       return int(x.used++);
     };
-    newSample(S(0), x.active.data(), x.active.data() + pairs.size());
+    boundSample(x.samples[0], pairs, x.active.data(), x.active.data() + pairs.size());
+    x.used = 1;
     newSample(S(1), x.active.data(), x.active.data() + pairs.size());
     std::vector<std::pair<S, S>>& certified = x.certified;  // intervals found free
     certified.clear();
